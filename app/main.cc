@@ -1,0 +1,37 @@
+// lrdslam: the command-line front end. Subcommands live in cmd_*.cc.
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <exception>
+#include <opencv2/core/utility.hpp>
+
+#include "app/commands.h"
+#include "lrd/util/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"lrd-slam: RGB-D SLAM for dynamic scenes (LRD-SLAM)", "lrdslam"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("lrdslam ") + LRD_VERSION);
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")->capture_default_str();
+  app.parse_complete_callback([&] { spdlog::set_level(spdlog::level::from_str(log_level)); });
+
+  lrd::app::register_synth_command(app);
+  lrd::app::register_eval_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const lrd::Error& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  } catch (const cv::Exception& e) {
+    std::fprintf(stderr, "error: OpenCV: %s\n", e.err.c_str());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

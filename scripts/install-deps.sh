@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs exactly the Debian (bookworm) packages lrd-slam needs to build, test and run.
+# Idempotent: skips apt entirely when everything is already installed. Run as root (or via sudo).
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config git
+  # libraries
+  libopencv-dev libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev
+  nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
+  # Python side (tests, reference evaluators, FNet training) — always /usr/bin/python3
+  python3 python3-numpy python3-opencv python3-pytest python3-yaml
+  # Real photographs used as textures by the synthetic benchmark (lrdslam synth)
+  opencv-doc gnome-backgrounds mate-backgrounds
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages already installed"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${#missing[@]} package(s): ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install-deps: done"
