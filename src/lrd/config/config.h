@@ -1,0 +1,46 @@
+#pragma once
+// The lrd-slam YAML config (yaml-cpp): one top-level section per module. config/default.yaml
+// documents every key and its default. Unknown sections and keys are errors.
+//
+// Sections whose modules are not written yet (tracking, mapping, dynamic, segmentation, dense)
+// are accepted and kept unparsed as NodeReaders; the module reads its own section later with the
+// same checks, e.g.
+//   config::NodeReader r = cfg.tracking;
+//   params.min_inliers = r.get("min_inliers", 15);
+//   r.finish();  // "FILE:LINE: unknown key 'tracking.min_inlier' (did you mean 'min_inliers'?)"
+#include <filesystem>
+
+#include "lrd/camera/pinhole_camera.h"
+#include "lrd/config/node_reader.h"
+#include "lrd/features/orb_params.h"
+
+namespace lrd::config {
+
+struct OutputConfig {
+  std::filesystem::path dir = "output";  // relative paths are relative to the working directory
+  bool save_trajectory = true;           // TUM-format CameraTrajectory.txt
+  bool save_keyframes = false;           // TUM-format KeyFrameTrajectory.txt
+};
+
+struct Config {
+  std::filesystem::path file;  // the file it was read from; empty for defaults
+  camera::PinholeCamera camera = camera::camera_preset("tum3");
+  features::OrbParams features;
+  OutputConfig output;
+  // Raw sections for modules still to come; empty readers when the section is absent.
+  NodeReader tracking;
+  NodeReader mapping;
+  NodeReader dynamic;
+  NodeReader segmentation;
+  NodeReader dense;
+};
+
+// Reads and validates `path`. Throws lrd::Error ("FILE[:LINE]: problem") for a missing file,
+// YAML syntax errors, unknown sections or keys, wrong types and out-of-range values.
+// camera: `preset: tum1|tum2|tum3`, or `settings: FILE` (ORB-SLAM2/3 settings, relative to the
+// config file; its ORBextractor values then become the defaults of `features`), or explicit
+// fx/fy/cx/cy; other fields given next to a preset or settings file override it. Without a
+// camera section the camera is the tum3 preset.
+[[nodiscard]] Config load_config(const std::filesystem::path& path);
+
+}  // namespace lrd::config

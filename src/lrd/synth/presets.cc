@@ -1,0 +1,129 @@
+#include "lrd/synth/presets.h"
+
+#include <cmath>
+#include <random>
+
+#include "lrd/synth/room_scene.h"
+#include "lrd/synth/seated_actor.h"
+#include "lrd/synth/walking_actor.h"
+#include "lrd/util/error.h"
+
+namespace lrd::synth {
+namespace {
+
+// Portable draws from the raw 64-bit engine output (the <random> distributions are not
+// specified bit-exactly across standard libraries; determinism needs that).
+class Draw {
+ public:
+  explicit Draw(std::uint64_t seed) : rng_(seed ^ 0xC0FFEE1234ull) {}
+  float uniform(float a, float b) { return a + (b - a) * static_cast<float>(rng_() >> 40) * 0x1.0p-24f; }
+  std::size_t pick(std::size_t n) { return static_cast<std::size_t>(rng_() % n); }
+
+ private:
+  std::mt19937_64 rng_;
+};
+
+Appearance random_look(const TextureLibrary& tex, Draw& d, int index) {
+  static const char* shirts[] = {"plaid_red", "plaid_blue", "stripes_shirt", "stripes_green", "clothes_print",
+                                 "clothes_flowers"};
+  static const char* trousers[] = {"denim", "trousers_dark"};
+  static const char* skins[] = {"skin_light", "skin_dark"};
+  static const char* hairs[] = {"hair_dark", "hair_brown"};
+  Appearance a;
+  // Different people get different shirts even when the draw coincides.
+  a.shirt = tex.id(shirts[(d.pick(6) + static_cast<std::size_t>(index) * 2) % 6]);
+  a.trousers = tex.id(trousers[d.pick(2)]);
+  a.skin = tex.id(skins[d.pick(2)]);
+  a.hair = tex.id(hairs[d.pick(2)]);
+  a.shoes = tex.id("shoe");
+  a.height = d.uniform(1.62f, 1.88f);
+  a.girth = d.uniform(0.9f, 1.12f);
+  return a;
+}
+
+using P = Eigen::Vector2f;
+
+}  // namespace
+
+const std::vector<PresetSpec>& preset_specs() {
+  static const std::vector<PresetSpec> specs = {
+      {"walking_static", 743, MotionKind::kStill, Cast::kWalkers, "two people walk around the desk; camera nearly still"},
+      {"walking_xyz", 859, MotionKind::kXyz, Cast::kWalkers, "two people walk; camera translates along x, y, z"},
+      {"walking_rpy", 910, MotionKind::kRpy, Cast::kWalkers, "two people walk; camera rotates in roll, pitch, yaw"},
+      {"walking_halfsphere", 1067, MotionKind::kHalfsphere, Cast::kWalkers,
+       "two people walk; camera moves on a half sphere of ~1 m diameter"},
+      {"sitting_static", 707, MotionKind::kStill, Cast::kSitters, "two seated people talk and gesture; camera nearly still"},
+      {"sitting_xyz", 1261, MotionKind::kXyz, Cast::kSitters, "two seated people; camera translates along x, y, z"},
+      {"sitting_halfsphere", 1110, MotionKind::kHalfsphere, Cast::kSitters,
+       "two seated people; camera moves on a half sphere"},
+      {"static_xyz", 1000, MotionKind::kXyz, Cast::kNobody, "empty room; camera translates along x, y, z"},
+      {"static_halfsphere", 1000, MotionKind::kHalfsphere, Cast::kNobody, "empty room; camera on a half sphere"},
+      {"static_loop", 1000, MotionKind::kLoop, Cast::kNobody, "empty room; camera circles the room twice"},
+      {"walking_loop", 1000, MotionKind::kLoop, Cast::kLoopWalkers,
+       "two people walk around the room while the camera circles it twice"},
+      {"walking_pushed", 900, MotionKind::kXyz, Cast::kPushAndCarry,
+       "a person pushes a chair, another carries a box; camera translates"},
+  };
+  return specs;
+}
+
+const PresetSpec& find_preset(const std::string& name) {
+  std::string names;
+  for (const auto& s : preset_specs()) {
+    if (s.name == name) return s;
+    names += (names.empty() ? "" : ", ") + s.name;
+  }
+  throw Error("unknown synthetic preset '" + name + "' (valid: " + names + ")");
+}
+
+SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex, std::uint64_t seed, double fps) {
+  SceneScript script;
+  const double duration = spec.default_frames / fps;
+  script.camera = std::make_unique<CameraMotion>(spec.motion, duration, seed);
+  Draw d(seed);
+  // Loops in front of the camera (which stands near x = 2.2 looking at the desk at x = 4.2..5.0).
+  const std::vector<P> around_desk = {P(3.75f, 0.8f), P(3.8f, 4.2f), P(5.62f, 4.35f), P(5.66f, 0.65f)};
+  const std::vector<P> front_loop = {P(3.15f, 4.35f), P(3.3f, 0.75f), P(3.95f, 0.8f), P(3.9f, 4.3f)};
+  // Clockwise, against the camera's counter-clockwise circling, so people cross its view often.
+  const std::vector<P> room_loop = {P(1.2f, 4.05f), P(4.05f, 4.1f), P(4.0f, 0.9f), P(1.25f, 0.95f)};
+  auto walker = [&](const std::vector<P>& path, float start_fraction, CarriedProp prop, int index, float speed) {
+    WalkingParams w;
+    w.waypoints = path;
+    w.speed = speed * d.uniform(0.9f, 1.1f);
+    w.speed_variation = d.uniform(0.35f, 0.7f);
+    w.phase = d.uniform(0.0f, 6.283f);
+    w.prop = prop;
+    ClosedPath p(path);
+    w.start = (start_fraction + d.uniform(0.0f, 0.2f)) * p.length();
+    script.actors.push_back(std::make_unique<WalkingActor>(w, random_look(tex, d, index), tex,
+                                                           "person " + std::to_string(index + 1)));
+  };
+  switch (spec.cast) {
+    case Cast::kNobody:
+      break;
+    case Cast::kWalkers:
+      walker(around_desk, 0.0f, CarriedProp::kNone, 0, 0.9f);
+      walker(front_loop, 0.45f, CarriedProp::kNone, 1, 0.8f);
+      break;
+    case Cast::kSitters: {
+      const auto seats = RoomLayout::seat_poses();
+      for (std::size_t i = 0; i < seats.size(); ++i) {
+        const int idx = static_cast<int>(i);
+        script.actors.push_back(std::make_unique<SeatedActor>(seats[i], random_look(tex, d, idx), d.uniform(0.0f, 6.283f),
+                                                              d.uniform(0.7f, 1.0f), "person " + std::to_string(idx + 1)));
+      }
+      break;
+    }
+    case Cast::kPushAndCarry:
+      walker(front_loop, 0.0f, CarriedProp::kPushedChair, 0, 0.55f);
+      walker(around_desk, 0.5f, CarriedProp::kCarriedBox, 1, 0.75f);
+      break;
+    case Cast::kLoopWalkers:
+      walker(room_loop, 0.0f, CarriedProp::kNone, 0, 0.9f);
+      walker(room_loop, 0.5f, CarriedProp::kNone, 1, 0.9f);
+      break;
+  }
+  return script;
+}
+
+}  // namespace lrd::synth

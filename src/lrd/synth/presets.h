@@ -1,0 +1,37 @@
+#pragma once
+// The synthetic benchmark's presets, mirroring TUM RGB-D fr3's dynamic sequences. Their names
+// are an interface: later issues, benchmarks and tests refer to them.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "lrd/synth/actor.h"
+#include "lrd/synth/camera_motion.h"
+#include "lrd/synth/texture_library.h"
+
+namespace lrd::synth {
+
+enum class Cast { kNobody, kWalkers, kSitters, kPushAndCarry, kLoopWalkers };
+
+struct PresetSpec {
+  std::string name;
+  int default_frames = 0;
+  MotionKind motion = MotionKind::kStill;
+  Cast cast = Cast::kNobody;
+  std::string description;
+};
+
+[[nodiscard]] const std::vector<PresetSpec>& preset_specs();
+// Throws lrd::Error listing the valid names.
+[[nodiscard]] const PresetSpec& find_preset(const std::string& name);
+
+// Everything that moves in a preset, for a given seed.
+struct SceneScript {
+  std::unique_ptr<CameraMotion> camera;
+  std::vector<std::unique_ptr<Actor>> actors;
+};
+
+[[nodiscard]] SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex, std::uint64_t seed,
+                                             double fps);
+
+}  // namespace lrd::synth

@@ -1,0 +1,105 @@
+#include "lrd/synth/synthetic_sequence.h"
+
+#include <cmath>
+
+#include "lrd/synth/room_scene.h"
+#include "lrd/util/error.h"
+
+namespace lrd::synth {
+namespace {
+
+// Deterministic per-frame offsets in [-1, 1].
+double frame_hash(std::uint64_t seed, int i, std::uint64_t stream) {
+  std::uint64_t x = seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(i) * 0xBF58476D1CE4E5B9ull + stream;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  x ^= x >> 31;
+  return static_cast<double>(x >> 11) * 0x1.0p-52 - 1.0;
+}
+
+// Textures of the room do not depend on the sequence seed: every seed sees the same room.
+constexpr std::uint64_t kRoomTextureSeed = 2024;
+
+}  // namespace
+
+SyntheticSequence::SyntheticSequence(const SynthOptions& options)
+    : options_(options), spec_(find_preset(options.preset)), camera_(camera::camera_preset("tum3")) {
+  frames_ = options.frames < 0 ? spec_.default_frames : options.frames;
+  if (frames_ == 0) throw Error("synth: --frames must be at least 1");
+  textures_ = std::make_unique<TextureLibrary>(kRoomTextureSeed);
+  room_ = build_room(*textures_);
+  script_ = build_scene_script(spec_, *textures_, options.seed, camera_.fps);
+  rasterizer_ = std::make_unique<Rasterizer>(camera_, *textures_);
+  sensor_ = std::make_unique<SensorModel>(camera_, SensorParams{}, options.seed);
+}
+
+SyntheticSequence::~SyntheticSequence() = default;
+
+std::vector<std::string> SyntheticSequence::actor_descriptions() const {
+  std::vector<std::string> out;
+  for (const auto& a : script_.actors) out.push_back(a->describe());
+  return out;
+}
+
+double SyntheticSequence::timestamp(int i) const {
+  // 30 Hz with a fraction of a millisecond of capture jitter, like a real camera driver.
+  return kFirstTimestamp + i / camera_.fps + 0.0004 * frame_hash(options_.seed, i, 11);
+}
+
+double SyntheticSequence::depth_timestamp(int i) const {
+  // Depth and colour are separate streams: a few milliseconds apart (TUM's are up to ~20 ms).
+  return timestamp(i) + 0.008 * frame_hash(options_.seed, i, 12);
+}
+
+Eigen::Isometry3d SyntheticSequence::pose(int i) const { return script_.camera->pose_at(timestamp(i) - kFirstTimestamp); }
+
+SynthFrame SyntheticSequence::render(int i) const {
+  if (i < 0 || i >= frames_) throw Error("synth: frame index out of range");
+  SynthFrame f;
+  f.index = i;
+  f.timestamp = timestamp(i);
+  f.depth_timestamp = depth_timestamp(i);
+  const double t = f.timestamp - kFirstTimestamp;
+  f.pose = script_.camera->pose_at(t);
+
+  auto render_at = [&](double time, RenderBuffers& static_pass, RenderBuffers& full_pass) {
+    const Eigen::Isometry3f T_wc = script_.camera->pose_at(time).cast<float>();
+    static_pass = rasterizer_->make_buffers();
+    rasterizer_->draw(room_.triangles(), T_wc, static_pass);
+    full_pass = static_pass.clone();
+    TriangleSoup actors;
+    for (const auto& a : script_.actors) a->add_geometry(time, actors);
+    rasterizer_->draw(actors.triangles(), T_wc, full_pass);
+    Rasterizer::finish(static_pass);
+    Rasterizer::finish(full_pass);
+  };
+
+  RenderBuffers static_pass, full_pass;
+  render_at(t, static_pass, full_pass);
+  cv::Mat color = full_pass.color, static_color = static_pass.color;
+  if (options_.motion_blur && options_.blur_subframes > 1) {
+    // Average colour over the exposure; depth and masks stay those of the frame's instant.
+    cv::Mat acc(color.size(), CV_32FC3, cv::Scalar::all(0)), acc_static = acc.clone();
+    for (int k = 0; k < options_.blur_subframes; ++k) {
+      const double tk = t + options_.exposure * (static_cast<double>(k) / (options_.blur_subframes - 1) - 0.5);
+      RenderBuffers s, d;
+      render_at(tk, s, d);
+      cv::Mat tmp;
+      d.color.convertTo(tmp, CV_32FC3);
+      acc += tmp;
+      s.color.convertTo(tmp, CV_32FC3);
+      acc_static += tmp;
+    }
+    acc.convertTo(color, CV_8UC3, 1.0 / options_.blur_subframes);
+    acc_static.convertTo(static_color, CV_8UC3, 1.0 / options_.blur_subframes);
+  }
+  f.rgb = sensor_->rgb_image(color, i);
+  f.static_rgb = sensor_->rgb_image(static_color, i);
+  f.depth = sensor_->depth_image(full_pass, i);
+  f.static_depth = sensor_->depth_image(static_pass, i);
+  f.mask = full_pass.label;
+  f.voc_class = full_pass.voc_class;
+  return f;
+}
+
+}  // namespace lrd::synth

@@ -1,0 +1,72 @@
+#pragma once
+// One synthetic dynamic RGB-D sequence: the room, a preset's camera motion and actors, the
+// renderer and the sensor model. Any frame renders independently of the others, so frames can be
+// produced in parallel and in any order with byte-identical results.
+#include <Eigen/Geometry>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "lrd/camera/pinhole_camera.h"
+#include "lrd/synth/presets.h"
+#include "lrd/synth/rasterizer.h"
+#include "lrd/synth/sensor_model.h"
+#include "lrd/synth/texture_library.h"
+
+namespace lrd::synth {
+
+struct SynthOptions {
+  std::string preset = "walking_xyz";
+  std::uint64_t seed = 1;
+  int frames = -1;            // < 0: the preset's default length
+  bool motion_blur = false;   // average sub-frames over the exposure
+  int blur_subframes = 5;
+  double exposure = 1.0 / 60.0;  // s
+};
+
+struct SynthFrame {
+  int index = 0;
+  double timestamp = 0.0;        // rgb
+  double depth_timestamp = 0.0;  // depth is stamped apart from rgb, as with a real Kinect
+  Eigen::Isometry3d pose;        // ground truth camera-to-world at `timestamp`
+  cv::Mat rgb;                   // CV_8UC3 BGR
+  cv::Mat depth;                 // CV_16U, factor 5000
+  cv::Mat mask;                  // CV_8U MaskLabel values
+  cv::Mat voc_class;             // CV_8U Pascal VOC class of every pixel
+  cv::Mat static_rgb;            // same view with the actors removed
+  cv::Mat static_depth;
+};
+
+class SyntheticSequence {
+ public:
+  explicit SyntheticSequence(const SynthOptions& options);
+  ~SyntheticSequence();
+
+  [[nodiscard]] int size() const { return frames_; }
+  [[nodiscard]] const PresetSpec& spec() const { return spec_; }
+  [[nodiscard]] const camera::PinholeCamera& camera() const { return camera_; }
+  [[nodiscard]] const SynthOptions& options() const { return options_; }
+  [[nodiscard]] const TextureLibrary& textures() const { return *textures_; }
+  [[nodiscard]] std::vector<std::string> actor_descriptions() const;
+
+  [[nodiscard]] double timestamp(int i) const;
+  [[nodiscard]] double depth_timestamp(int i) const;
+  [[nodiscard]] Eigen::Isometry3d pose(int i) const;
+  // Renders frame i (thread-safe).
+  [[nodiscard]] SynthFrame render(int i) const;
+
+  static constexpr double kFirstTimestamp = 1700000000.0;
+
+ private:
+  SynthOptions options_;
+  const PresetSpec& spec_;
+  int frames_;
+  camera::PinholeCamera camera_;
+  std::unique_ptr<TextureLibrary> textures_;
+  TriangleSoup room_;
+  SceneScript script_;
+  std::unique_ptr<Rasterizer> rasterizer_;
+  std::unique_ptr<SensorModel> sensor_;
+};
+
+}  // namespace lrd::synth

@@ -1,0 +1,38 @@
+#pragma once
+// A person walking a closed path with swinging arms and legs, slowing and speeding up, turning
+// along the path; optionally pushing a chair or carrying a box (objects moved by external force,
+// which a person-class network does not label).
+#include <string>
+
+#include "lrd/synth/actor.h"
+#include "lrd/synth/humanoid.h"
+#include "lrd/synth/path2d.h"
+
+namespace lrd::synth {
+
+enum class CarriedProp { kNone, kPushedChair, kCarriedBox };
+
+struct WalkingParams {
+  std::vector<Eigen::Vector2f> waypoints;
+  float speed = 1.0f;          // mean m/s
+  float speed_variation = 0.5f;  // 0..0.9: relative amplitude of the speed's slow oscillation
+  float start = 0.0f;          // arc length at t = 0
+  float phase = 0.0f;          // of head and speed oscillations
+  CarriedProp prop = CarriedProp::kNone;
+};
+
+class WalkingActor : public Actor {
+ public:
+  WalkingActor(WalkingParams params, Appearance look, const TextureLibrary& tex, std::string name);
+  void add_geometry(double t, TriangleSoup& soup) const override;
+  [[nodiscard]] std::string describe() const override;
+
+ private:
+  WalkingParams params_;
+  Appearance look_;
+  const TextureLibrary& tex_;
+  ClosedPath path_;
+  std::string name_;
+};
+
+}  // namespace lrd::synth

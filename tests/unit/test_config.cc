@@ -1,0 +1,208 @@
+// lrd::config::load_config and NodeReader: one section per module, unknown keys rejected.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "lrd/config/config.h"
+#include "lrd/util/error.h"
+
+namespace fs = std::filesystem;
+using lrd::config::load_config;
+
+namespace {
+
+class ConfigTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("lrd_config_" + std::to_string(std::random_device{}()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& text) const {
+    const fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p;
+  }
+
+  // The message load_config(text) fails with.
+  std::string error_of(const std::string& text) const {
+    const fs::path p = write("bad.yaml", text);
+    try {
+      (void)load_config(p);
+    } catch (const lrd::Error& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+      EXPECT_EQ(msg.rfind(p.string(), 0), 0u) << "message should start with the file: " << msg;
+      return msg;
+    }
+    ADD_FAILURE() << "expected lrd::Error for:\n" << text;
+    return {};
+  }
+
+  fs::path dir_;
+};
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST_F(ConfigTest, ShippedDefaultConfigLoadsWithDefaults) {
+  const auto cfg = load_config(fs::path(LRD_SOURCE_DIR) / "config" / "default.yaml");
+  const auto tum3 = lrd::camera::camera_preset("tum3");
+  EXPECT_EQ(cfg.camera.name, "tum3");
+  EXPECT_DOUBLE_EQ(cfg.camera.fx, tum3.fx);
+  const lrd::features::OrbParams orb;
+  EXPECT_EQ(cfg.features.n_features, orb.n_features);
+  EXPECT_FLOAT_EQ(cfg.features.scale_factor, orb.scale_factor);
+  EXPECT_EQ(cfg.features.n_levels, orb.n_levels);
+  EXPECT_EQ(cfg.features.ini_th_fast, orb.ini_th_fast);
+  EXPECT_EQ(cfg.features.min_th_fast, orb.min_th_fast);
+  EXPECT_EQ(cfg.output.dir, fs::path("output"));
+  EXPECT_TRUE(cfg.output.save_trajectory);
+  EXPECT_FALSE(cfg.output.save_keyframes);
+}
+
+TEST_F(ConfigTest, EmptyFileGivesDefaults) {
+  const auto cfg = load_config(write("empty.yaml", "# nothing\n"));
+  EXPECT_EQ(cfg.camera.name, "tum3");
+  EXPECT_EQ(cfg.features.n_features, 1000);
+}
+
+TEST_F(ConfigTest, PresetCameraWithOverrides) {
+  const auto cfg = load_config(write("c.yaml",
+                                     "camera:\n  preset: tum2\n  depth_map_factor: 5000\n"
+                                     "features:\n  n_features: 1500\n  scale_factor: 1.5\n"
+                                     "output:\n  dir: runs/a\n  save_keyframes: true\n"));
+  const auto tum2 = lrd::camera::camera_preset("tum2");
+  EXPECT_EQ(cfg.camera.name, "tum2");
+  EXPECT_DOUBLE_EQ(cfg.camera.fx, tum2.fx);
+  EXPECT_DOUBLE_EQ(cfg.camera.distortion.k1, tum2.distortion.k1);
+  EXPECT_DOUBLE_EQ(cfg.camera.depth_map_factor, 5000.0);  // overridden
+  EXPECT_EQ(cfg.features.n_features, 1500);
+  EXPECT_FLOAT_EQ(cfg.features.scale_factor, 1.5f);
+  EXPECT_EQ(cfg.features.n_levels, 8);
+  EXPECT_EQ(cfg.output.dir, fs::path("runs/a"));
+  EXPECT_TRUE(cfg.output.save_keyframes);
+}
+
+TEST_F(ConfigTest, ExplicitCamera) {
+  const auto cfg = load_config(write("c.yaml",
+                                     "camera:\n  fx: 500\n  fy: 501\n  cx: 320.5\n  cy: 240.5\n  k1: 0.1\n"
+                                     "  width: 320\n  height: 240\n  rgb_order: false\n"));
+  EXPECT_EQ(cfg.camera.name, "custom");
+  EXPECT_DOUBLE_EQ(cfg.camera.fx, 500.0);
+  EXPECT_DOUBLE_EQ(cfg.camera.fy, 501.0);
+  EXPECT_DOUBLE_EQ(cfg.camera.cx, 320.5);
+  EXPECT_DOUBLE_EQ(cfg.camera.cy, 240.5);
+  EXPECT_DOUBLE_EQ(cfg.camera.distortion.k1, 0.1);
+  EXPECT_EQ(cfg.camera.width, 320);
+  EXPECT_FALSE(cfg.camera.rgb_order);
+  const std::string msg = error_of("camera:\n  fx: 500\n  fy: 500\n  cx: 320\n");
+  EXPECT_TRUE(contains(msg, "missing required key 'camera.cy'")) << msg;
+}
+
+TEST_F(ConfigTest, SettingsFileCameraRelativeToConfig) {
+  fs::copy_file(fs::path(LRD_SOURCE_DIR) / "config" / "TUM1.yaml", dir_ / "TUM1.yaml");
+  const auto cfg = load_config(write("c.yaml", "camera:\n  settings: TUM1.yaml\nfeatures:\n  n_levels: 4\n"));
+  EXPECT_EQ(cfg.camera.name, "TUM1");
+  EXPECT_DOUBLE_EQ(cfg.camera.fx, 517.306408);
+  EXPECT_DOUBLE_EQ(cfg.camera.distortion.k3, 1.163314);
+  EXPECT_EQ(cfg.features.n_features, 1000);
+  EXPECT_EQ(cfg.features.n_levels, 4);
+
+  const std::string msg = error_of("camera:\n  preset: tum1\n  settings: TUM1.yaml\n");
+  EXPECT_TRUE(contains(msg, "camera.settings")) << msg;
+}
+
+TEST_F(ConfigTest, UnknownKeyNamedWithLineAndSuggestion) {
+  const std::string msg = error_of("features:\n  n_features: 800\n  nfeaturs: 900\n");
+  EXPECT_TRUE(contains(msg, "bad.yaml:3: unknown key 'features.nfeaturs'")) << msg;
+  EXPECT_TRUE(contains(msg, "did you mean 'n_features'")) << msg;
+  EXPECT_TRUE(contains(error_of("camera:\n  preset: tum1\n  fxx: 3\n"), "unknown key 'camera.fxx'"));
+  EXPECT_TRUE(contains(error_of("output:\n  directory: x\n"), "unknown key 'output.directory'"));
+}
+
+TEST_F(ConfigTest, UnknownSectionNamed) {
+  const std::string msg = error_of("features: {}\ntrackng:\n  a: 1\n");
+  EXPECT_TRUE(contains(msg, "bad.yaml:2: unknown section 'trackng'")) << msg;
+  EXPECT_TRUE(contains(msg, "did you mean 'tracking'")) << msg;
+}
+
+TEST_F(ConfigTest, WrongTypeNamesKeyAndLine) {
+  std::string msg = error_of("features:\n  n_levels: 8\n  n_features: many\n");
+  EXPECT_TRUE(contains(msg, "bad.yaml:3: key 'features.n_features' must be an integer, got 'many'")) << msg;
+  msg = error_of("output:\n  save_keyframes: maybe\n");
+  EXPECT_TRUE(contains(msg, "bad.yaml:2: key 'output.save_keyframes' must be a boolean")) << msg;
+  msg = error_of("camera:\n  preset: [tum1]\n");
+  EXPECT_TRUE(contains(msg, "bad.yaml:2: key 'camera.preset' must be a string, got a list")) << msg;
+  msg = error_of("features: 5\n");
+  EXPECT_TRUE(contains(msg, "bad.yaml:1: section 'features' must be a mapping")) << msg;
+}
+
+TEST_F(ConfigTest, OutOfRangeAndBadPreset) {
+  std::string msg = error_of("features:\n  scale_factor: 0.9\n");
+  EXPECT_TRUE(contains(msg, "bad.yaml:2: key 'features.scale_factor' must be > 1")) << msg;
+  msg = error_of("camera:\n  preset: tum4\n");
+  EXPECT_TRUE(contains(msg, "bad.yaml:2: key 'camera.preset'")) << msg;
+  EXPECT_TRUE(contains(msg, "tum4")) << msg;
+}
+
+TEST_F(ConfigTest, SyntaxErrorsAndMissingFile) {
+  std::string msg = error_of("features:\n  n_features: [1, 2\n");
+  EXPECT_TRUE(contains(msg, "YAML syntax error")) << msg;
+  msg = error_of("features:\n  n_features: 1\n  n_features: 2\n");
+  EXPECT_TRUE(contains(msg, "bad.yaml:3: duplicate key 'features.n_features'")) << msg;
+  msg = error_of("%YAML:1.0\nCamera.fx: 500\n");
+  EXPECT_TRUE(contains(msg, "ORB-SLAM settings file")) << msg;
+  try {
+    (void)load_config(dir_ / "missing.yaml");
+    FAIL() << "expected lrd::Error";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "missing.yaml: config file not found")) << e.what();
+  }
+}
+
+TEST_F(ConfigTest, LaterModuleSectionKeptForItsReader) {
+  const auto cfg = load_config(write("c.yaml",
+                                     "tracking:\n  min_inliers: 20\n  motion_model: true\n"
+                                     "  window:\n    size: 5\n"
+                                     "dense:\n  voxel_size: 0.01\n"));
+  // What the tracking module will do with its section.
+  lrd::config::NodeReader tracking = cfg.tracking;
+  EXPECT_EQ(tracking.prefix(), "tracking");
+  EXPECT_EQ(tracking.get("min_inliers", 15), 20);
+  EXPECT_TRUE(tracking.get("motion_model", false));
+  EXPECT_DOUBLE_EQ(tracking.get("max_dt", 0.5), 0.5);  // absent: default
+  lrd::config::NodeReader window = tracking.section("window");
+  EXPECT_EQ(window.get("size", 3), 5);
+  EXPECT_NO_THROW(window.finish());
+  EXPECT_NO_THROW(tracking.finish());
+
+  lrd::config::NodeReader dense = cfg.dense;
+  EXPECT_EQ(dense.get<std::string>("mode", "tsdf"), "tsdf");
+  try {
+    dense.finish();  // voxel_size was never read: unknown to this module
+    FAIL() << "expected lrd::Error";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "c.yaml:7: unknown key 'dense.voxel_size'")) << e.what();
+  }
+  try {
+    lrd::config::NodeReader t2 = cfg.tracking;
+    (void)t2.get("min_inliers", std::string("x"));
+    (void)t2.get("motion_model", 1);
+    FAIL() << "expected lrd::Error";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "c.yaml:3: key 'tracking.motion_model' must be an integer, got 'true'"))
+        << e.what();
+  }
+  // Absent sections are empty readers.
+  lrd::config::NodeReader mapping = cfg.mapping;
+  EXPECT_EQ(mapping.get("local_window", 10), 10);
+  EXPECT_NO_THROW(mapping.finish());
+}
