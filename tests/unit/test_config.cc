@@ -8,6 +8,7 @@
 
 #include "lrd/config/config.h"
 #include "lrd/util/error.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using lrd::config::load_config;
@@ -16,17 +17,7 @@ namespace {
 
 class ConfigTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("lrd_config_" + std::to_string(std::random_device{}()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path p = dir_ / name;
-    std::ofstream(p) << text;
-    return p;
-  }
+  fs::path write(const std::string& name, const std::string& text) const { return tmp_.write(name, text); }
 
   // The message load_config(text) fails with.
   std::string error_of(const std::string& text) const {
@@ -43,7 +34,8 @@ class ConfigTest : public ::testing::Test {
     return {};
   }
 
-  fs::path dir_;
+  lrd::test::TempDir tmp_{"config"};
+  const fs::path dir_ = tmp_.path();
 };
 
 bool contains(const std::string& s, const std::string& part) {

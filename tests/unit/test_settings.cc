@@ -8,6 +8,7 @@
 
 #include "lrd/config/orbslam_settings.h"
 #include "lrd/util/error.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using lrd::config::read_orbslam_settings;
@@ -16,17 +17,7 @@ namespace {
 
 class SettingsTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("lrd_settings_" + std::to_string(std::random_device{}()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path p = dir_ / name;
-    std::ofstream(p) << text;
-    return p;
-  }
+  fs::path write(const std::string& name, const std::string& text) const { return tmp_.write(name, text); }
 
   // The message of the lrd::Error that f throws.
   template <class F>
@@ -40,7 +31,8 @@ class SettingsTest : public ::testing::Test {
     return {};
   }
 
-  fs::path dir_;
+  lrd::test::TempDir tmp_{"settings"};
+  const fs::path dir_ = tmp_.path();
 };
 
 // As ORB-SLAM2's Examples/RGB-D/TUM1.yaml (with its Viewer keys, which are ignored).

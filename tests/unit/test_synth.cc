@@ -4,17 +4,15 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
-#include <unistd.h>
 
 #include "lrd/io/trajectory.h"
 #include "lrd/io/tum_sequence.h"
 #include "lrd/synth/sequence_writer.h"
 #include "lrd/synth/synthetic_sequence.h"
 #include "lrd/util/error.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using lrd::synth::SynthFrame;
@@ -34,19 +32,6 @@ SynthOptions options(const std::string& preset, int frames, std::uint64_t seed =
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("lrd_test_synth_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 }  // namespace
@@ -236,7 +221,8 @@ TEST(SynthDeterminism, SameSeedSameBytesDifferentSeedDifferentNoise) {
 
 TEST(SynthWriter, WritesTumLayoutDeterministicallyAndReadsBack) {
   const SyntheticSequence seq(options("walking_halfsphere", 6, 3));
-  const fs::path d1 = temp_dir("w1"), d2 = temp_dir("w2");
+  const lrd::test::TempDir t1("synth_w1"), t2("synth_w2");
+  const fs::path d1 = t1.path(), d2 = t2.path();
   (void)lrd::synth::write_sequence(seq, d1);
   (void)lrd::synth::write_sequence(seq, d2);
   std::size_t files = 0;
@@ -244,7 +230,7 @@ TEST(SynthWriter, WritesTumLayoutDeterministicallyAndReadsBack) {
     if (!e.is_regular_file()) continue;
     ++files;
     const fs::path rel = fs::relative(e.path(), d1);
-    EXPECT_EQ(slurp(e.path()), slurp(d2 / rel)) << rel;
+    EXPECT_EQ(lrd::test::TempDir::read(e.path()), lrd::test::TempDir::read(d2 / rel)) << rel;
   }
   EXPECT_EQ(files, 6u * 5u + 6u);  // 5 images per frame; rgb/depth/associations, gt, settings, json
   // The project's own TUM reader associates it back frame for frame.
@@ -262,6 +248,4 @@ TEST(SynthWriter, WritesTumLayoutDeterministicallyAndReadsBack) {
   cv::Mat expected;
   f.depth.convertTo(expected, CV_32F, 1.0 / 5000.0);
   EXPECT_LT(cv::norm(frame.depth, expected, cv::NORM_INF), 1e-6);
-  fs::remove_all(d1);
-  fs::remove_all(d2);
 }

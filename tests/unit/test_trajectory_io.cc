@@ -13,6 +13,7 @@
 
 #include "lrd/io/trajectory.h"
 #include "lrd/util/error.h"
+#include "temp_dir.h"
 
 namespace {
 
@@ -20,24 +21,14 @@ namespace fs = std::filesystem;
 using lrd::io::StampedPose;
 using lrd::io::Trajectory;
 
-fs::path temp_file(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("lrdslam_traj_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
+// One scratch folder for the file's tests, removed at exit.
+const lrd::test::TempDir& scratch() {
+  static const lrd::test::TempDir dir("traj");
+  return dir;
 }
-
-fs::path write_text(const std::string& name, const std::string& text) {
-  const fs::path file = temp_file(name);
-  std::ofstream(file, std::ios::binary) << text;
-  return file;
-}
-
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+fs::path temp_file(const std::string& name) { return scratch().path() / name; }
+fs::path write_text(const std::string& name, const std::string& text) { return scratch().write(name, text); }
+std::string read_text(const fs::path& file) { return lrd::test::TempDir::read(file); }
 
 StampedPose make_pose(double t, const Eigen::Quaterniond& q, const Eigen::Vector3d& p) {
   StampedPose pose;

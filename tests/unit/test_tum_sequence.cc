@@ -11,6 +11,7 @@
 #include "lrd/io/frame_prefetcher.h"
 #include "lrd/io/tum_sequence.h"
 #include "lrd/util/error.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using lrd::io::FramePrefetcher;
@@ -32,7 +33,6 @@ constexpr int kHeaderLines = 3;  // comment lines before the first entry
 class TumSequenceTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("lrd_tum_" + std::to_string(std::random_device{}()));
     fs::create_directories(dir_ / "rgb");
     fs::create_directories(dir_ / "depth");
     write_list("rgb.txt", "rgb", kRgb);
@@ -48,7 +48,6 @@ class TumSequenceTest : public ::testing::Test {
       ASSERT_TRUE(cv::imwrite(depth_file(i).string(), depth));
     }
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   static std::string stamp(double t) {
     char buf[32];
@@ -85,7 +84,8 @@ class TumSequenceTest : public ::testing::Test {
     return error_of([&] { (void)TumSequence::open(dir_); });
   }
 
-  fs::path dir_;
+  lrd::test::TempDir tmp_{"tum"};
+  const fs::path dir_ = tmp_.path();
 };
 
 bool contains(const std::string& s, const std::string& part) {
