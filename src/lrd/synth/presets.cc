@@ -81,10 +81,12 @@ SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex
   const double duration = spec.default_frames / fps;
   script.camera = std::make_unique<CameraMotion>(spec.motion, duration, seed);
   Draw d(seed);
-  // Loops in front of the camera (which stands near x = 2.2 looking at the desk at x = 4.2..5.0).
-  const std::vector<P> around_desk = {P(3.75f, 0.8f), P(3.8f, 4.2f), P(5.62f, 4.35f), P(5.66f, 0.65f)};
-  const std::vector<P> front_loop = {P(3.15f, 4.35f), P(3.3f, 0.75f), P(3.95f, 0.8f), P(3.9f, 4.3f)};
-  // Clockwise, against the camera's counter-clockwise circling, so people cross its view often.
+  // Paths in front of the camera (which stands near x = 2.2 looking at the desk at x = 4.2..5.0,
+  // y = 1.5..3.5). As in TUM's walking sequences, people pass within 1-2 m of the camera and
+  // often cover 20-50 % of the image: one paces to and fro about 1.2 m in front of the camera,
+  // turning inside the view, the other walks round the desk.
+  const std::vector<P> around_desk = {P(3.95f, 0.8f), P(3.95f, 4.2f), P(5.62f, 4.35f), P(5.66f, 0.65f)};
+  const std::vector<P> front_loop = {P(3.25f, 1.95f), P(3.27f, 3.05f), P(3.5f, 3.07f), P(3.48f, 1.93f)};
   const std::vector<P> room_loop = {P(1.2f, 4.05f), P(4.05f, 4.1f), P(4.0f, 0.9f), P(1.25f, 0.95f)};
   auto walker = [&](const std::vector<P>& path, float start_fraction, CarriedProp prop, int index, float speed) {
     WalkingParams w;
