@@ -10,6 +10,7 @@
 #include "lrd/synth/presets.h"
 #include "lrd/synth/sequence_writer.h"
 #include "lrd/synth/synthetic_sequence.h"
+#include "lrd/synth/voc_exporter.h"
 
 namespace lrd::app {
 
@@ -28,7 +29,27 @@ void register_synth_command(CLI::App& app) {
   cmd->add_option("--frames", opts->frames, "Number of frames (default: the preset's length; a prefix of it)");
   cmd->add_flag("--motion-blur", opts->motion_blur, "Average 5 sub-frames over a 1/60 s exposure");
   cmd->add_flag("--list", *list, "List the presets and exit");
-  cmd->callback([opts, out, list] {
+  auto voc_dir = std::make_shared<std::string>();
+  auto voc_images = std::make_shared<int>(2000);
+  cmd->add_option("--export-voc", *voc_dir,
+                  "Instead of one sequence, write segmentation training data in the Pascal VOC layout to this "
+                  "folder (frames of every preset; seeds from --seed, default 1000, disjoint from evaluation seeds)");
+  cmd->add_option("--images", *voc_images, "With --export-voc: number of images")->capture_default_str();
+  auto* seed_opt = cmd->get_option("--seed");
+  cmd->callback([opts, out, list, voc_dir, voc_images, seed_opt] {
+    if (!voc_dir->empty()) {
+      synth::VocExportOptions v;
+      v.images = *voc_images;
+      if (seed_opt->count() > 0) v.first_seed = opts->seed;
+      const bool tty = isatty(fileno(stderr));
+      const auto s = synth::export_voc(*voc_dir, v, [tty](int done, int total) {
+        if (tty && (done % 20 == 0 || done == total)) std::fprintf(stderr, "\r  %d/%d images", done, total);
+      });
+      if (tty) std::fprintf(stderr, "\n");
+      std::printf("VOC export: %d train + %d val images in %.1f s -> %s (person pixels: %.1f %%)\n", s.train, s.val,
+                  s.seconds, voc_dir->c_str(), 100 * s.person_pixel_fraction);
+      return;
+    }
     if (*list) {
       for (const auto& s : synth::preset_specs())
         std::printf("%-20s %5d frames  %s\n", s.name.c_str(), s.default_frames, s.description.c_str());

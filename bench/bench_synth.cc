@@ -9,15 +9,14 @@
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
+#include <opencv2/imgproc.hpp>
+
+#include "bench/yardstick.h"
 #include "lrd/synth/sequence_writer.h"
 #include "lrd/synth/synthetic_sequence.h"
 
 namespace {
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -29,6 +28,7 @@ int main(int argc, char** argv) {
   const lrd::synth::SyntheticSequence seq(opt);
 
   std::vector<double> render_ms, encode_ms;
+  std::vector<cv::Mat> grey;
   for (int i = 0; i < std::min(frames, 30); ++i) {
     const double t0 = now();
     const auto f = seq.render(i * std::max(1, frames / 30));
@@ -37,10 +37,15 @@ int main(int argc, char** argv) {
     for (const cv::Mat* m : {&f.rgb, &f.depth, &f.mask, &f.static_rgb, &f.static_depth}) cv::imencode(".png", *m, buf);
     const double t2 = now();
     render_ms.push_back(1e3 * (t1 - t0));
+    grey.emplace_back();
+    cv::cvtColor(f.rgb, grey.back(), cv::COLOR_BGR2GRAY);
     encode_ms.push_back(1e3 * (t2 - t1));
   }
-  fmt::print("{}: single thread, median per frame: render {:.1f} ms, PNG encode (5 images) {:.1f} ms\n", preset,
-             median(render_ms), median(encode_ms));
+  const double y = lrd::bench::yardstick_ms(grey);
+  const double render = lrd::bench::median_of(render_ms), encode = lrd::bench::median_of(encode_ms);
+  fmt::print("Y (median OpenCV ORB 1000/1.2/8 detectAndCompute on these frames): {:.1f} ms\n", y);
+  fmt::print("{}: single thread, median per frame: render {:.1f} ms ({:.2f} Y), PNG encode of 5 images {:.1f} ms "
+             "({:.2f} Y)\n", preset, render, render / y, encode, encode / y);
 
   const auto out = std::filesystem::temp_directory_path() / fmt::format("lrd_bench_synth_{}", preset);
   std::filesystem::remove_all(out);

@@ -60,3 +60,29 @@ def test_writes_tum_layout_with_seed_and_frames(tmp_path):
         assert (seq / "static" / f).exists() and (seq / "static" / fd).exists()
     settings = (seq / "settings.yaml").read_text()
     assert settings.startswith("%YAML:1.0") and "Camera.fx: 535.4" in settings and "DepthMapFactor: 5000" in settings
+
+
+def test_export_voc_layout_labels_and_split(tmp_path):
+    voc = tmp_path / "voc"
+    out = run("synth", "--export-voc", str(voc), "--images", "30")
+    assert out.returncode == 0, out.stderr
+    train = (voc / "ImageSets/Segmentation/train.txt").read_text().split()
+    val = (voc / "ImageSets/Segmentation/val.txt").read_text().split()
+    assert len(train) == 25 and len(val) == 5, "whole sequences go to validation"
+    assert not set(train) & set(val)
+    seeds = {int(n.split("_")[-2]) for n in train + val}
+    assert min(seeds) >= 1000, "training seeds are disjoint from evaluation seeds"
+    voc_ids = {0, 9, 11, 15, 16, 18, 20}
+    person = 0
+    for name in train + val:
+        img = cv2.imread(str(voc / "JPEGImages" / f"{name}.jpg"))
+        lab = cv2.imread(str(voc / "SegmentationClassAug" / f"{name}.png"), cv2.IMREAD_UNCHANGED)
+        assert img.shape == (480, 640, 3) and lab.shape == (480, 640) and lab.dtype == np.uint8
+        assert set(np.unique(lab)) <= voc_ids
+        person += int((lab == 15).sum())
+    assert person > 0
+
+
+def test_export_voc_refuses_evaluation_seeds(tmp_path):
+    out = run("synth", "--export-voc", str(tmp_path / "v"), "--images", "2", "--seed", "1")
+    assert out.returncode == 1 and "reserved for evaluation" in out.stderr

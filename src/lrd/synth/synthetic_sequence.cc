@@ -17,16 +17,24 @@ double frame_hash(std::uint64_t seed, int i, std::uint64_t stream) {
   return static_cast<double>(x >> 11) * 0x1.0p-52 - 1.0;
 }
 
-// Textures of the room do not depend on the sequence seed: every seed sees the same room.
 constexpr std::uint64_t kRoomTextureSeed = 2024;
 
 }  // namespace
 
+std::shared_ptr<const TextureLibrary> SyntheticSequence::load_textures() {
+  return std::make_shared<const TextureLibrary>(kRoomTextureSeed);
+}
+
 SyntheticSequence::SyntheticSequence(const SynthOptions& options)
-    : options_(options), spec_(find_preset(options.preset)), camera_(camera::camera_preset("tum3")) {
+    : SyntheticSequence(options, load_textures()) {}
+
+SyntheticSequence::SyntheticSequence(const SynthOptions& options, std::shared_ptr<const TextureLibrary> textures)
+    : options_(options),
+      spec_(find_preset(options.preset)),
+      camera_(camera::camera_preset("tum3")),
+      textures_(std::move(textures)) {
   frames_ = options.frames < 0 ? spec_.default_frames : options.frames;
   if (frames_ == 0) throw Error("synth: --frames must be at least 1");
-  textures_ = std::make_unique<TextureLibrary>(kRoomTextureSeed);
   room_ = build_room(*textures_);
   script_ = build_scene_script(spec_, *textures_, options.seed, camera_.fps);
   rasterizer_ = std::make_unique<Rasterizer>(camera_, *textures_);

@@ -40,6 +40,8 @@ struct SynthFrame {
 class SyntheticSequence {
  public:
   explicit SyntheticSequence(const SynthOptions& options);
+  // Shares an already loaded texture library (loading the photographs takes about a second).
+  SyntheticSequence(const SynthOptions& options, std::shared_ptr<const TextureLibrary> textures);
   ~SyntheticSequence();
 
   [[nodiscard]] int size() const { return frames_; }
@@ -56,13 +58,15 @@ class SyntheticSequence {
   [[nodiscard]] SynthFrame render(int i) const;
 
   static constexpr double kFirstTimestamp = 1700000000.0;
+  // Textures of the room do not depend on the sequence seed: every seed sees the same room.
+  static std::shared_ptr<const TextureLibrary> load_textures();
 
  private:
   SynthOptions options_;
   const PresetSpec& spec_;
   int frames_;
   camera::PinholeCamera camera_;
-  std::unique_ptr<TextureLibrary> textures_;
+  std::shared_ptr<const TextureLibrary> textures_;
   TriangleSoup room_;
   SceneScript script_;
   std::unique_ptr<Rasterizer> rasterizer_;
