@@ -11,6 +11,7 @@ PACKAGES=(
   nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
   # Python side (tests, reference evaluators, FNet training) — always /usr/bin/python3
   python3 python3-numpy python3-opencv python3-pytest python3-yaml
+  python3-torch python3-onnx python3-pil  # FNet: training, ONNX export fix-up, VOC palette labels
   # Real photographs used as textures by the synthetic benchmark (lrdslam synth)
   opencv-doc gnome-backgrounds mate-backgrounds
 )

@@ -40,7 +40,7 @@ class GhostModule(nn.Module):
         # Eq. 2: Y' = X * f' (bias-free; BN follows as in GhostNet).
         self.primary = nn.Sequential(nn.Conv2d(cin, m, k, stride, k // 2, bias=False), nn.BatchNorm2d(m), *act)
         # Eq. 3: every intrinsic map i spawns s-1 ghosts through its own d x d depthwise filter
-        # (groups=m, so output channel j*? belongs to intrinsic map floor(j / (s-1))).
+        # (groups=m: output channels i*(s-1) .. i*(s-1)+s-2 are the ghosts of intrinsic map i).
         if s > 1:
             self.cheap = nn.Sequential(nn.Conv2d(m, m * (s - 1), d, 1, d // 2, groups=m, bias=False),
                                        nn.BatchNorm2d(m * (s - 1)), *act)

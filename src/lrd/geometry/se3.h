@@ -1,0 +1,37 @@
+#pragma once
+// Minimal SE(3) helpers on Eigen::Isometry3d: the exponential map used for pose updates, and the
+// skew matrix. Tangent vectors are ordered (omega, nu): rotation first, then translation.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace lrd::geometry {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+inline Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+// exp of a twist (omega, nu), as a rigid transform.
+inline Eigen::Isometry3d se3_exp(const Vector6d& xi) {
+  const Eigen::Vector3d w = xi.head<3>(), v = xi.tail<3>();
+  const double theta = w.norm();
+  const Eigen::Matrix3d W = skew(w);
+  Eigen::Matrix3d R, V;
+  if (theta < 1e-10) {
+    R = Eigen::Matrix3d::Identity() + W;
+    V = Eigen::Matrix3d::Identity() + 0.5 * W;
+  } else {
+    const double s = std::sin(theta), c = std::cos(theta), t2 = theta * theta;
+    R = Eigen::AngleAxisd(theta, w / theta).toRotationMatrix();
+    V = Eigen::Matrix3d::Identity() + (1.0 - c) / t2 * W + (theta - s) / (t2 * theta) * W * W;
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = V * v;
+  return T;
+}
+
+}  // namespace lrd::geometry

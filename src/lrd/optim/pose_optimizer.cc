@@ -1,0 +1,136 @@
+#include "lrd/optim/pose_optimizer.h"
+
+#include <cmath>
+
+#include "lrd/geometry/se3.h"
+
+namespace lrd::optim {
+namespace {
+
+using geometry::Vector6d;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+struct Residual {
+  Eigen::Vector3d e = Eigen::Vector3d::Zero();   // (du, dv, du_right); third unused for mono
+  Eigen::Matrix<double, 3, 6> J = Eigen::Matrix<double, 3, 6>::Zero();  // d e / d xi (left perturbation)
+  bool stereo = false;
+  bool valid = false;  // point in front of the camera
+  [[nodiscard]] double chi2(double inv_sigma2) const {
+    return inv_sigma2 * (stereo ? e.squaredNorm() : e.head<2>().squaredNorm());
+  }
+};
+
+Residual residual(const camera::PinholeCamera& cam, const PoseObservation& o, const Eigen::Isometry3d& T_cw,
+                  bool with_jacobian) {
+  Residual r;
+  const Eigen::Vector3d p = T_cw * o.point_w;
+  if (p.z() <= 1e-6) return r;
+  r.valid = true;
+  r.stereo = o.u_right >= 0.0;
+  const double iz = 1.0 / p.z(), iz2 = iz * iz;
+  const double u = cam.fx * p.x() * iz + cam.cx, v = cam.fy * p.y() * iz + cam.cy;
+  r.e.x() = o.pixel.x() - u;
+  r.e.y() = o.pixel.y() - v;
+  if (r.stereo) r.e.z() = o.u_right - (u - cam.bf * iz);
+  if (!with_jacobian) return r;
+  // d(prediction)/d(p_c), then d(p_c)/d(xi) = [-[p_c]x, I]; the residual is obs - prediction.
+  Eigen::Matrix<double, 3, 3> dproj;
+  dproj << cam.fx * iz, 0.0, -cam.fx * p.x() * iz2, 0.0, cam.fy * iz, -cam.fy * p.y() * iz2, cam.fx * iz, 0.0,
+      -cam.fx * p.x() * iz2 + cam.bf * iz2;
+  Eigen::Matrix<double, 3, 6> dp;
+  dp.leftCols<3>() = -geometry::skew(p);
+  dp.rightCols<3>().setIdentity();
+  r.J = -dproj * dp;
+  if (!r.stereo) r.J.row(2).setZero();
+  return r;
+}
+
+// Huber weight for a residual of squared (whitened) norm chi2 and threshold delta^2.
+double huber_weight(double chi2, double delta2) {
+  return chi2 <= delta2 ? 1.0 : std::sqrt(delta2 / chi2);
+}
+
+// Robust cost of the current inliers.
+double cost(const camera::PinholeCamera& cam, const std::vector<PoseObservation>& obs, const std::vector<bool>& out,
+            const Eigen::Isometry3d& T, bool robust, const PoseOptimizerParams& p) {
+  double c = 0.0;
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    if (out[i]) continue;
+    const Residual r = residual(cam, obs[i], T, false);
+    if (!r.valid) {
+      c += 1e6;
+      continue;
+    }
+    const double chi2 = r.chi2(obs[i].inv_sigma2);
+    const double d2 = r.stereo ? p.chi2_stereo : p.chi2_mono;
+    c += robust && chi2 > d2 ? 2.0 * std::sqrt(d2 * chi2) - d2 : chi2;
+  }
+  return c;
+}
+
+}  // namespace
+
+PoseOptimizationResult optimize_pose(const camera::PinholeCamera& cam, const std::vector<PoseObservation>& obs,
+                                     const Eigen::Isometry3d& T_cw_initial, const PoseOptimizerParams& params) {
+  PoseOptimizationResult result;
+  result.T_cw = T_cw_initial;
+  result.outlier.assign(obs.size(), false);
+  if (obs.size() < 3) {
+    result.inliers = static_cast<int>(obs.size());
+    return result;
+  }
+  Eigen::Isometry3d T = T_cw_initial;
+  for (int round = 0; round < params.rounds; ++round) {
+    const bool robust = round < params.robust_rounds;
+    double lambda = 1e-4;
+    double current = cost(cam, obs, result.outlier, T, robust, params);
+    for (int it = 0; it < params.iterations; ++it) {
+      Matrix6d H = Matrix6d::Zero();
+      Vector6d g = Vector6d::Zero();
+      for (std::size_t i = 0; i < obs.size(); ++i) {
+        if (result.outlier[i]) continue;
+        const Residual r = residual(cam, obs[i], T, true);
+        if (!r.valid) continue;
+        const double chi2 = r.chi2(obs[i].inv_sigma2);
+        const double w = obs[i].inv_sigma2 *
+                         (robust ? huber_weight(chi2, r.stereo ? params.chi2_stereo : params.chi2_mono) : 1.0);
+        H.noalias() += w * r.J.transpose() * r.J;
+        g.noalias() += w * r.J.transpose() * r.e;
+      }
+      // Levenberg-Marquardt step on the left perturbation: T <- exp(xi) T.
+      bool improved = false;
+      for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
+        Matrix6d A = H;
+        A.diagonal() += lambda * H.diagonal().cwiseMax(1e-9);
+        const Vector6d xi = A.ldlt().solve(-g);
+        if (!xi.allFinite()) break;
+        const Eigen::Isometry3d candidate = geometry::se3_exp(xi) * T;
+        const double c = cost(cam, obs, result.outlier, candidate, robust, params);
+        if (c < current) {
+          T = candidate;
+          current = c;
+          lambda = std::max(lambda * 0.3, 1e-9);
+          improved = true;
+          if (xi.squaredNorm() < 1e-16) it = params.iterations;  // converged
+        } else {
+          lambda *= 10.0;
+        }
+      }
+      if (!improved) break;
+    }
+    // Re-classify every observation (outliers may come back) against the chi-square thresholds.
+    int inliers = 0;
+    for (std::size_t i = 0; i < obs.size(); ++i) {
+      const Residual r = residual(cam, obs[i], T, false);
+      const double chi2 = r.valid ? r.chi2(obs[i].inv_sigma2) : 1e12;
+      result.outlier[i] = chi2 > (r.stereo ? params.chi2_stereo : params.chi2_mono);
+      inliers += !result.outlier[i];
+    }
+    result.inliers = inliers;
+    if (inliers < params.min_inliers) break;
+  }
+  result.T_cw = T;
+  return result;
+}
+
+}  // namespace lrd::optim
