@@ -1,0 +1,79 @@
+#include "lrd/data/frame.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "lrd/util/error.h"
+
+namespace lrd::data {
+
+Frame::Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::Mat& depth, const cv::Mat& mask,
+             features::OrbExtractor& extractor, const features::KeypointUndistorter& undistorter,
+             const camera::PinholeCamera& camera)
+    : id_(id), timestamp_(timestamp), camera_(camera), close_depth_(static_cast<float>(camera.close_depth_threshold())) {
+  if (grey.type() != CV_8UC1) throw Error("frame: expected an 8-bit grey image");
+  if (depth.type() != CV_32FC1 || depth.size() != grey.size())
+    throw Error("frame: expected a CV_32FC1 depth image of the grey image's size");
+  extractor.extract(grey, mask, keypoints_, descriptors_);
+  undistorted_ = undistorter.undistort(keypoints_);
+  level_sigma2_ = extractor.level_sigma2();
+  inv_level_sigma2_ = extractor.inv_level_sigma2();
+  scale_factors_ = extractor.scale_factors();
+
+  // Depth is read at the detected (distorted) pixel: depth is registered to the raw image.
+  const std::size_t n = keypoints_.size();
+  depth_.assign(n, -1.0f);
+  u_right_.assign(n, -1.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int u = static_cast<int>(std::lround(keypoints_[i].pt.x));
+    const int v = static_cast<int>(std::lround(keypoints_[i].pt.y));
+    if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) continue;
+    const float d = depth.at<float>(v, u);
+    if (d > 0.0f) {
+      depth_[i] = d;
+      u_right_[i] = undistorted_[i].pt.x - static_cast<float>(camera.bf) / d;
+    }
+  }
+
+  bounds_ = undistorter.undistorted_bounds();
+  cell_w_inv_ = static_cast<float>(kGridCols) / bounds_.width;
+  cell_h_inv_ = static_cast<float>(kGridRows) / bounds_.height;
+  grid_.assign(static_cast<std::size_t>(kGridCols * kGridRows), {});
+  for (std::size_t i = 0; i < n; ++i) {
+    int c, r;
+    if (grid_cell(undistorted_[i].pt, c, r)) grid_[static_cast<std::size_t>(r * kGridCols + c)].push_back(static_cast<std::uint32_t>(i));
+  }
+}
+
+bool Frame::grid_cell(const cv::Point2f& p, int& col, int& row) const {
+  col = static_cast<int>(std::floor((p.x - bounds_.x) * cell_w_inv_));
+  row = static_cast<int>(std::floor((p.y - bounds_.y) * cell_h_inv_));
+  return col >= 0 && col < kGridCols && row >= 0 && row < kGridRows;
+}
+
+std::vector<std::size_t> Frame::features_in_area(float x, float y, float radius, int min_level, int max_level) const {
+  std::vector<std::size_t> out;
+  const int c0 = std::max(0, static_cast<int>(std::floor((x - radius - bounds_.x) * cell_w_inv_)));
+  const int c1 = std::min(kGridCols - 1, static_cast<int>(std::floor((x + radius - bounds_.x) * cell_w_inv_)));
+  const int r0 = std::max(0, static_cast<int>(std::floor((y - radius - bounds_.y) * cell_h_inv_)));
+  const int r1 = std::min(kGridRows - 1, static_cast<int>(std::floor((y + radius - bounds_.y) * cell_h_inv_)));
+  for (int r = r0; r <= r1; ++r) {
+    for (int c = c0; c <= c1; ++c) {
+      for (const std::uint32_t i : grid_[static_cast<std::size_t>(r * kGridCols + c)]) {
+        const cv::KeyPoint& kp = undistorted_[i];
+        if ((min_level >= 0 && kp.octave < min_level) || (max_level >= 0 && kp.octave > max_level)) continue;
+        if (std::abs(kp.pt.x - x) <= radius && std::abs(kp.pt.y - y) <= radius) out.push_back(i);
+      }
+    }
+  }
+  std::sort(out.begin(), out.end());  // deterministic order whatever the grid traversal
+  return out;
+}
+
+std::optional<Eigen::Vector3d> Frame::unproject_world(std::size_t i) const {
+  if (!T_cw_ || depth_[i] <= 0.0f) return std::nullopt;
+  const cv::Point2f& p = undistorted_[i].pt;
+  return T_cw_->inverse() * camera_.unproject(p.x, p.y, depth_[i]);
+}
+
+}  // namespace lrd::data

@@ -1,0 +1,74 @@
+#pragma once
+// The features of one RGB-D image, ready for tracking (ORB-SLAM2's Frame, RGB-D case): ORB
+// keypoints and descriptors (extracted once, dynamic pixels masked out before description),
+// their undistorted positions in a grid for fast area search, a depth per keypoint and the
+// virtual right coordinate u_R = u - bf/d that lets RGB-D observations act as stereo ones.
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <vector>
+
+#include "lrd/camera/pinhole_camera.h"
+#include "lrd/features/keypoint_undistorter.h"
+#include "lrd/features/orb_extractor.h"
+
+namespace lrd::data {
+
+class Frame {
+ public:
+  static constexpr int kGridCols = 64;
+  static constexpr int kGridRows = 48;
+
+  // `grey` CV_8UC1; `depth` CV_32FC1 metres (0 = invalid), registered to `grey`; `mask` CV_8UC1
+  // (nonzero = dynamic, no features there) or empty.
+  Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::Mat& depth, const cv::Mat& mask,
+        features::OrbExtractor& extractor, const features::KeypointUndistorter& undistorter,
+        const camera::PinholeCamera& camera);
+
+  [[nodiscard]] std::uint64_t id() const { return id_; }
+  [[nodiscard]] double timestamp() const { return timestamp_; }
+  [[nodiscard]] std::size_t size() const { return keypoints_.size(); }
+  [[nodiscard]] const camera::PinholeCamera& camera() const { return camera_; }
+
+  [[nodiscard]] const std::vector<cv::KeyPoint>& keypoints() const { return keypoints_; }      // as detected
+  [[nodiscard]] const std::vector<cv::KeyPoint>& undistorted() const { return undistorted_; }  // ideal pinhole
+  [[nodiscard]] const cv::Mat& descriptors() const { return descriptors_; }
+  [[nodiscard]] float depth(std::size_t i) const { return depth_[i]; }      // metres, < 0 = none
+  [[nodiscard]] float u_right(std::size_t i) const { return u_right_[i]; }  // < 0 = none
+  // Close points (depth < ThDepth baselines) are reliable enough to create map points alone.
+  [[nodiscard]] bool is_close(std::size_t i) const { return depth_[i] > 0 && depth_[i] < close_depth_; }
+  [[nodiscard]] const std::vector<float>& level_sigma2() const { return level_sigma2_; }
+  [[nodiscard]] const std::vector<float>& inv_level_sigma2() const { return inv_level_sigma2_; }
+  [[nodiscard]] const std::vector<float>& scale_factors() const { return scale_factors_; }
+
+  // Indices of keypoints whose undistorted position lies within `radius` pixels (square window,
+  // as ORB-SLAM2) of (x, y), on pyramid levels [min_level, max_level] (< 0: no bound).
+  [[nodiscard]] std::vector<std::size_t> features_in_area(float x, float y, float radius, int min_level = -1,
+                                                          int max_level = -1) const;
+
+  void set_pose(const Eigen::Isometry3d& T_cw) { T_cw_ = T_cw; }
+  [[nodiscard]] bool has_pose() const { return T_cw_.has_value(); }
+  [[nodiscard]] const Eigen::Isometry3d& T_cw() const { return *T_cw_; }
+  [[nodiscard]] Eigen::Isometry3d T_wc() const { return T_cw_->inverse(); }
+  // World point of keypoint i from its depth; empty without depth or pose.
+  [[nodiscard]] std::optional<Eigen::Vector3d> unproject_world(std::size_t i) const;
+
+ private:
+  [[nodiscard]] bool grid_cell(const cv::Point2f& p, int& col, int& row) const;
+
+  std::uint64_t id_;
+  double timestamp_;
+  camera::PinholeCamera camera_;
+  std::vector<cv::KeyPoint> keypoints_, undistorted_;
+  cv::Mat descriptors_;
+  std::vector<float> depth_, u_right_;
+  float close_depth_;
+  std::vector<float> level_sigma2_, inv_level_sigma2_, scale_factors_;
+  cv::Rect2f bounds_;
+  float cell_w_inv_, cell_h_inv_;
+  std::vector<std::vector<std::uint32_t>> grid_;  // kGridCols * kGridRows cells, row-major
+  std::optional<Eigen::Isometry3d> T_cw_;
+};
+
+}  // namespace lrd::data

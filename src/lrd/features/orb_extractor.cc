@@ -1,0 +1,220 @@
+#include "lrd/features/orb_extractor.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "lrd/features/brief_pattern.h"
+#include "lrd/util/error.h"
+
+namespace lrd::features {
+namespace {
+
+constexpr int kHalfPatch = OrbExtractor::kPatchSize / 2;
+
+const OrbParams& validated(const OrbParams& p) {
+  auto fail = [](const std::string& what) { throw Error("ORB extractor: " + what); };
+  if (p.n_features < 1) fail("n_features must be >= 1, got " + std::to_string(p.n_features));
+  if (p.min_th_fast < 1 || p.ini_th_fast < p.min_th_fast) {
+    fail("FAST thresholds must satisfy 1 <= min_th_fast <= ini_th_fast, got " +
+         std::to_string(p.min_th_fast) + " and " + std::to_string(p.ini_th_fast));
+  }
+  return p;  // n_levels and scale_factor are checked by ImagePyramid
+}
+
+}  // namespace
+
+OrbExtractor::OrbExtractor(const OrbParams& params)
+    : params_(validated(params)), pyramid_(params.n_levels, params.scale_factor) {
+  const int n = params_.n_levels;
+  for (float s : pyramid_.scale_factors()) {
+    sigma2_.push_back(s * s);
+    inv_sigma2_.push_back(1.0f / (s * s));
+  }
+  // The budget falls geometrically with the level's linear scale (ORB-SLAM2): level i gets a
+  // share proportional to scale_factor^-i; level 0 takes what rounding leaves.
+  per_level_.assign(n, 0);
+  const double f = 1.0 / params_.scale_factor;
+  const double first = n == 1 ? params_.n_features : params_.n_features * (1.0 - f) / (1.0 - std::pow(f, n));
+  int assigned = 0;
+  for (int i = 1; i < n; ++i) {
+    per_level_[i] = static_cast<int>(std::lround(first * std::pow(f, i)));
+    assigned += per_level_[i];
+  }
+  per_level_[0] = std::max(0, params_.n_features - assigned);
+
+  // Rows of the circular orientation patch: |u| <= u_max_[|v|], i.e. u^2 + v^2 <= (R + 1/2)^2. A
+  // rule on u^2 + v^2 keeps the disc symmetric under 90-degree turns, so turning the image by 90
+  // degrees turns the angle by exactly 90.
+  const int limit = kHalfPatch * kHalfPatch + kHalfPatch;  // floor((R + 1/2)^2)
+  for (int v = 0; v <= kHalfPatch; ++v) {
+    int u = 0;
+    while ((u + 1) * (u + 1) + v * v <= limit) ++u;
+    u_max_.push_back(u);
+  }
+  work_.resize(n);
+  int i = 0;
+  for (const BriefPair& p : brief_pattern()) {
+    pattern_x_[i] = p.x1, pattern_y_[i++] = p.y1;
+    pattern_x_[i] = p.x2, pattern_y_[i++] = p.y2;
+  }
+}
+
+void OrbExtractor::detect(int level, const cv::Mat& mask, LevelWork& work) const {
+  std::vector<cv::KeyPoint>& corners = work.corners;
+  corners.clear();
+  const cv::Mat& image = pyramid_.level(level);
+  // Corners may lie in [kEdge, size - kEdge); FAST needs 3 more pixels around what it searches.
+  const cv::Rect area(kEdge, kEdge, image.cols - 2 * kEdge, image.rows - 2 * kEdge);
+  if (area.width < 1 || area.height < 1) return;
+  const int cells_x = std::max(1, area.width / kCellSize);
+  const int cells_y = std::max(1, area.height / kCellSize);
+  const int cell_w = (area.width + cells_x - 1) / cells_x;
+  const int cell_h = (area.height + cells_y - 1) / cells_y;
+  work.cell_strong.assign(static_cast<std::size_t>(cells_x) * cells_y, 0);
+
+  // Keeps the unmasked corners FAST found in `roi` (shifted to level coordinates).
+  auto collect = [&](const cv::Rect& roi, int threshold) {
+    cv::FAST(image(roi), work.found, threshold, true, cv::FastFeatureDetector::TYPE_9_16);
+    for (cv::KeyPoint kp : work.found) {
+      kp.pt.x += static_cast<float>(roi.x);
+      kp.pt.y += static_cast<float>(roi.y);
+      if (!mask.empty()) {
+        const cv::Point2f p = pyramid_.to_base(level, kp.pt.x, kp.pt.y);
+        const int mx = std::clamp(cvRound(p.x), 0, mask.cols - 1);
+        const int my = std::clamp(cvRound(p.y), 0, mask.rows - 1);
+        if (mask.at<std::uint8_t>(my, mx) != 0) continue;
+      }
+      corners.push_back(kp);
+    }
+  };
+  auto grown = [](const cv::Rect& r) { return cv::Rect(r.x - 3, r.y - 3, r.width + 6, r.height + 6); };
+
+  // High threshold over the whole level first; then the low one, as ORB-SLAM2 does, only in the
+  // cells left without a corner, so low-contrast regions still get features without letting weak
+  // corners crowd strong ones elsewhere.
+  collect(grown(area), params_.ini_th_fast);
+  for (const cv::KeyPoint& kp : corners) {
+    const int cx = (static_cast<int>(kp.pt.x) - area.x) / cell_w;
+    const int cy = (static_cast<int>(kp.pt.y) - area.y) / cell_h;
+    work.cell_strong[static_cast<std::size_t>(cy) * cells_x + cx] = 1;
+  }
+  for (int cy = 0; cy < cells_y; ++cy) {
+    const char* strong = work.cell_strong.data() + static_cast<std::size_t>(cy) * cells_x;
+    // A run of weak cells in a row is searched in one call: fewer calls, less overlap.
+    for (int cx = 0; cx < cells_x;) {
+      if (strong[cx]) {
+        ++cx;
+        continue;
+      }
+      const int first = cx;
+      while (cx < cells_x && !strong[cx]) ++cx;
+      const cv::Rect run =
+          cv::Rect(area.x + first * cell_w, area.y + cy * cell_h, (cx - first) * cell_w, cell_h) & area;
+      if (!run.empty()) collect(grown(run), params_.min_th_fast);
+    }
+  }
+}
+
+void OrbExtractor::orient(const cv::Mat& image, cv::KeyPoint& kp) const {
+  const std::uint8_t* centre = image.ptr<std::uint8_t>(cvRound(kp.pt.y)) + cvRound(kp.pt.x);
+  const auto step = static_cast<std::ptrdiff_t>(image.step1());
+  // Moments m10 = sum u I, m01 = sum v I over the disc; rows +v and -v are taken together.
+  int m10 = 0, m01 = 0;
+  for (int u = -kHalfPatch; u <= kHalfPatch; ++u) m10 += u * centre[u];
+  for (int v = 1; v <= kHalfPatch; ++v) {
+    const std::uint8_t* below = centre + v * step;
+    const std::uint8_t* above = centre - v * step;
+    int v_sum = 0;
+    for (int u = -u_max_[v]; u <= u_max_[v]; ++u) {
+      v_sum += below[u] - above[u];
+      m10 += u * (below[u] + above[u]);
+    }
+    m01 += v * v_sum;
+  }
+  float angle =
+      std::atan2(static_cast<float>(m01), static_cast<float>(m10)) * (180.0f / std::numbers::pi_v<float>);
+  if (angle < 0.0f) angle += 360.0f;
+  if (angle >= 360.0f) angle = 0.0f;
+  kp.angle = angle;
+}
+
+void OrbExtractor::describe(const cv::Mat& smoothed, const cv::KeyPoint& kp, std::uint8_t* row) const {
+  const float theta = kp.angle * (std::numbers::pi_v<float> / 180.0f);
+  const float c = std::cos(theta), s = std::sin(theta);
+  const std::uint8_t* centre = smoothed.ptr<std::uint8_t>(cvRound(kp.pt.y)) + cvRound(kp.pt.x);
+  const int step = static_cast<int>(smoothed.step1());
+  // The pattern turned by the keypoint's angle (steered BRIEF, Rublee et al. 2011, sec. 4.1),
+  // rounded half away from zero; written as one flat loop so that it vectorises.
+  std::array<int, 2 * kDescriptorBits> offset;
+  for (int i = 0; i < 2 * kDescriptorBits; ++i) {
+    const float x = pattern_x_[i] * c - pattern_y_[i] * s;
+    const float y = pattern_x_[i] * s + pattern_y_[i] * c;
+    offset[i] =
+        static_cast<int>(y + std::copysign(0.5f, y)) * step + static_cast<int>(x + std::copysign(0.5f, x));
+  }
+  for (int byte = 0; byte < kDescriptorBytes; ++byte) {
+    unsigned value = 0;
+    for (int bit = 0; bit < 8; ++bit) {
+      const int i = 2 * (8 * byte + bit);
+      value |= static_cast<unsigned>(centre[offset[i]] < centre[offset[i + 1]]) << bit;
+    }
+    row[byte] = static_cast<std::uint8_t>(value);
+  }
+}
+
+void OrbExtractor::extract(const cv::Mat& grey, const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints,
+                           cv::Mat& descriptors) {
+  if (grey.empty() || grey.type() != CV_8UC1)
+    throw Error("ORB extractor: the image must be a non-empty CV_8UC1");
+  if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != grey.size())) {
+    throw Error("ORB extractor: the mask must be CV_8UC1 of the image's size");
+  }
+  pyramid_.build(grey);
+  const int n = levels();
+  tbb::parallel_for(0, n, [&](int level) { detect(level, mask, work_[level]); });
+
+  // Coarse to fine: what a level cannot fill passes to the next finer one, which has more corners,
+  // so low-texture images still get close to n_features.
+  int carry = 0;
+  for (int level = n - 1; level >= 0; --level) {
+    const cv::Mat& image = pyramid_.level(level);
+    LevelWork& w = work_[level];
+    w.chosen.clear();
+    const int wanted = per_level_[level] + carry;
+    const cv::Rect2f area(kEdge, kEdge, static_cast<float>(image.cols - 2 * kEdge),
+                          static_cast<float>(image.rows - 2 * kEdge));
+    for (int i : distributor_.select(w.corners, area, wanted)) w.chosen.push_back(w.corners[i]);
+    carry = wanted - static_cast<int>(w.chosen.size());
+  }
+  int total = 0;
+  for (LevelWork& w : work_) {
+    w.first_row = total;
+    total += static_cast<int>(w.chosen.size());
+  }
+
+  keypoints.resize(total);
+  descriptors.create(total, kDescriptorBytes, CV_8U);
+  tbb::parallel_for(0, n, [&](int level) {
+    LevelWork& w = work_[level];
+    if (w.chosen.empty()) return;
+    const cv::Mat& image = pyramid_.level(level);
+    // Smoothing first makes the binary tests robust to noise (Rublee et al. 2011, sec. 4).
+    w.smoother.smooth(image, w.smoothed);
+    const float size = static_cast<float>(kPatchSize) * scale_factors()[level];
+    int row = w.first_row;
+    for (cv::KeyPoint& kp : w.chosen) {
+      orient(image, kp);
+      describe(w.smoothed, kp, descriptors.ptr<std::uint8_t>(row));
+      keypoints[row++] =
+          cv::KeyPoint(pyramid_.to_base(level, kp.pt.x, kp.pt.y), size, kp.angle, kp.response, level);
+    }
+  });
+}
+
+}  // namespace lrd::features
