@@ -1,7 +1,8 @@
 #include "lrd/synth/camera_motion.h"
 
+#include "lrd/synth/portable_random.h"
+
 #include <cmath>
-#include <random>
 
 namespace lrd::synth {
 namespace {
@@ -11,9 +12,8 @@ const Eigen::Vector3d kTarget(5.2, 2.5, 0.85);   // the desk
 }  // namespace
 
 CameraMotion::CameraMotion(MotionKind kind, double duration, std::uint64_t seed) : kind_(kind), duration_(duration) {
-  std::mt19937_64 rng(seed * 0x2545F4914F6CDD1Dull + 17);
-  std::uniform_real_distribution<double> u(0.0, kTwoPi);
-  for (double& p : phase_) p = u(rng);
+  PortableRandom rng(seed * 0x2545F4914F6CDD1Dull + 17);
+  for (double& p : phase_) p = rng.uniform(0.0, kTwoPi);
 }
 
 Eigen::Isometry3d CameraMotion::look_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target, double yaw,

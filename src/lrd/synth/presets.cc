@@ -1,8 +1,8 @@
 #include "lrd/synth/presets.h"
 
 #include <cmath>
-#include <random>
 
+#include "lrd/synth/portable_random.h"
 #include "lrd/synth/room_scene.h"
 #include "lrd/synth/seated_actor.h"
 #include "lrd/synth/walking_actor.h"
@@ -11,16 +11,10 @@
 namespace lrd::synth {
 namespace {
 
-// Portable draws from the raw 64-bit engine output (the <random> distributions are not
-// specified bit-exactly across standard libraries; determinism needs that).
-class Draw {
+// The seed is mixed so that actors and camera (seeded alike) draw different streams.
+class Draw : public PortableRandom {
  public:
-  explicit Draw(std::uint64_t seed) : rng_(seed ^ 0xC0FFEE1234ull) {}
-  float uniform(float a, float b) { return a + (b - a) * static_cast<float>(rng_() >> 40) * 0x1.0p-24f; }
-  std::size_t pick(std::size_t n) { return static_cast<std::size_t>(rng_() % n); }
-
- private:
-  std::mt19937_64 rng_;
+  explicit Draw(std::uint64_t seed) : PortableRandom(seed ^ 0xC0FFEE1234ull) {}
 };
 
 Appearance random_look(const TextureLibrary& tex, Draw& d, int index) {

@@ -7,8 +7,8 @@
 #include <chrono>
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
-#include <random>
 
+#include "lrd/synth/portable_random.h"
 #include "lrd/synth/presets.h"
 #include "lrd/synth/synthetic_sequence.h"
 #include "lrd/util/error.h"
@@ -42,11 +42,11 @@ VocExportSummary export_voc(const fs::path& dir, const VocExportOptions& options
     o.seed = options.first_seed + static_cast<std::uint64_t>(s);
     o.frames = -1;
     const SyntheticSequence seq(o, textures);
-    std::mt19937_64 rng(o.seed);
+    PortableRandom rng(o.seed);
     for (int k = 0; k < per_seq; ++k) {
       const int image = s * per_seq + k;
       if (image >= options.images) break;
-      const int frame = static_cast<int>(rng() % static_cast<std::uint64_t>(seq.size()));
+      const int frame = static_cast<int>(rng.pick(static_cast<std::size_t>(seq.size())));
       const SynthFrame f = seq.render(frame);
       const std::string name = fmt::format("synth_{}_{}_{:04d}", o.preset, o.seed, frame);
       if (!cv::imwrite((dir / "JPEGImages" / (name + ".jpg")).string(), f.rgb, {cv::IMWRITE_JPEG_QUALITY, 95}))
