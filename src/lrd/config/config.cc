@@ -123,6 +123,7 @@ Config load_config(const std::filesystem::path& path) {
   NodeReader top(root, path, "");
   std::optional<features::OrbParams> settings_orb;
   if (top.has("camera")) {
+    cfg.camera_given = true;
     NodeReader r = top.section("camera");
     cfg.camera = read_camera(r, settings_orb);
   }

@@ -25,6 +25,7 @@ struct OutputConfig {
 struct Config {
   std::filesystem::path file;  // the file it was read from; empty for defaults
   camera::PinholeCamera camera = camera::camera_preset("tum3");
+  bool camera_given = false;  // the file had a camera section (else the default above)
   features::OrbParams features;
   OutputConfig output;
   // Raw sections for modules still to come; empty readers when the section is absent.

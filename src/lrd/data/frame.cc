@@ -35,6 +35,9 @@ Frame::Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::
     }
   }
 
+  map_points.assign(n, nullptr);
+  outliers.assign(n, false);
+
   bounds_ = undistorter.undistorted_bounds();
   cell_w_inv_ = static_cast<float>(kGridCols) / bounds_.width;
   cell_h_inv_ = static_cast<float>(kGridRows) / bounds_.height;

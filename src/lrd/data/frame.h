@@ -12,6 +12,11 @@
 #include "lrd/camera/pinhole_camera.h"
 #include "lrd/features/keypoint_undistorter.h"
 #include "lrd/features/orb_extractor.h"
+#include "lrd/geometry/se3.h"
+
+namespace lrd::map {
+class MapPoint;
+}  // namespace lrd::map
 
 namespace lrd::data {
 
@@ -47,7 +52,18 @@ class Frame {
   [[nodiscard]] std::vector<std::size_t> features_in_area(float x, float y, float radius, int min_level = -1,
                                                           int max_level = -1) const;
 
-  void set_pose(const Eigen::Isometry3d& T_cw) { T_cw_ = T_cw; }
+  // Whether an undistorted position lies inside the image (the undistorted bounds).
+  [[nodiscard]] bool in_bounds(double u, double v) const {
+    return u >= bounds_.x && u < bounds_.x + bounds_.width && v >= bounds_.y && v < bounds_.y + bounds_.height;
+  }
+  [[nodiscard]] const cv::Rect2f& bounds() const { return bounds_; }
+
+  // Tracking's working state: the map point matched to each keypoint (nullptr: none) and whether
+  // the last pose optimization rejected that match.
+  std::vector<map::MapPoint*> map_points;
+  std::vector<bool> outliers;
+
+  void set_pose(const Eigen::Isometry3d& T_cw) { T_cw_ = geometry::orthonormalized(T_cw); }
   [[nodiscard]] bool has_pose() const { return T_cw_.has_value(); }
   [[nodiscard]] const Eigen::Isometry3d& T_cw() const { return *T_cw_; }
   [[nodiscard]] Eigen::Isometry3d T_wc() const { return T_cw_->inverse(); }

@@ -34,4 +34,13 @@ inline Eigen::Isometry3d se3_exp(const Vector6d& xi) {
   return T;
 }
 
+// The nearest rigid transform: products of rotations drift off orthonormality by rounding, and
+// Isometry3d::inverse() (a transpose) turns that drift into real pose error, which the motion
+// model then amplifies frame after frame. Every stored pose goes through this.
+inline Eigen::Isometry3d orthonormalized(const Eigen::Isometry3d& T) {
+  Eigen::Isometry3d r = T;
+  r.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
+  return r;
+}
+
 }  // namespace lrd::geometry

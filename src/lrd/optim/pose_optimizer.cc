@@ -104,7 +104,7 @@ PoseOptimizationResult optimize_pose(const camera::PinholeCamera& cam, const std
         A.diagonal() += lambda * H.diagonal().cwiseMax(1e-9);
         const Vector6d xi = A.ldlt().solve(-g);
         if (!xi.allFinite()) break;
-        const Eigen::Isometry3d candidate = geometry::se3_exp(xi) * T;
+        const Eigen::Isometry3d candidate = geometry::orthonormalized(geometry::se3_exp(xi) * T);
         const double c = cost(cam, obs, result.outlier, candidate, robust, params);
         if (c < current) {
           T = candidate;
@@ -129,7 +129,7 @@ PoseOptimizationResult optimize_pose(const camera::PinholeCamera& cam, const std
     result.inliers = inliers;
     if (inliers < params.min_inliers) break;
   }
-  result.T_cw = T;
+  result.T_cw = geometry::orthonormalized(T);
   return result;
 }
 

@@ -1,0 +1,111 @@
+#pragma once
+// A keyframe (ORB-SLAM2's KeyFrame): the features of a frame kept in the map, its pose, the map
+// point behind each keypoint, and its place in the three graphs of the map: the covisibility
+// graph (edge weight = map points seen by both), the spanning tree (each keyframe's parent is
+// its most covisible earlier keyframe) and loop edges; together with strong covisibility edges
+// (weight >= 100) they form the essential graph that loop closing optimizes.
+//
+// Poses are world-to-camera (T_cw). All access happens under Map::mutex() (see map_point.h).
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "lrd/data/frame.h"
+#include "lrd/geometry/se3.h"
+#include "lrd/map/by_id.h"
+
+namespace lrd::map {
+
+class Map;
+class MapPoint;
+
+class KeyFrame {
+ public:
+  // Takes over the frame's features, pose and map-point matches.
+  KeyFrame(std::uint64_t id, const data::Frame& frame, Map* map);
+
+  [[nodiscard]] std::uint64_t id() const { return id_; }
+  [[nodiscard]] std::uint64_t frame_id() const { return frame_.id(); }
+  [[nodiscard]] double timestamp() const { return frame_.timestamp(); }
+  // Keypoints, descriptors, depths, grid search.
+  [[nodiscard]] const data::Frame& features() const { return frame_; }
+  [[nodiscard]] std::size_t size() const { return frame_.size(); }
+
+  [[nodiscard]] const Eigen::Isometry3d& T_cw() const { return T_cw_; }
+  [[nodiscard]] Eigen::Isometry3d T_wc() const { return T_cw_.inverse(); }
+  [[nodiscard]] Eigen::Vector3d camera_center() const { return T_cw_.inverse().translation(); }
+  void set_pose(const Eigen::Isometry3d& T_cw) { T_cw_ = geometry::orthonormalized(T_cw); }
+
+  // --- map points, one slot per keypoint
+  [[nodiscard]] const std::vector<MapPoint*>& map_points() const { return points_; }
+  [[nodiscard]] MapPoint* map_point(std::size_t i) const { return points_[i]; }
+  void add_map_point(MapPoint* mp, std::size_t i) { points_[i] = mp; }
+  void erase_map_point(std::size_t i) { points_[i] = nullptr; }
+  void erase_map_point(MapPoint* mp);
+  // Good map points with at least `min_observations` (weighted) observations.
+  [[nodiscard]] int tracked_map_points(int min_observations) const;
+  // Depth of the q-quantile of the scene in front of the camera (q = 0.5: median).
+  [[nodiscard]] double scene_depth_quantile(double q) const;
+
+  // --- covisibility graph
+  // Recomputes this keyframe's edges from its map points' observations (weight >= 15, or the
+  // strongest one if none reaches it), updates the neighbours' edges, and, the first time,
+  // attaches the keyframe to the spanning tree under its most covisible keyframe.
+  void update_connections();
+  void add_connection(KeyFrame* kf, int weight);
+  void erase_connection(KeyFrame* kf);
+  [[nodiscard]] int weight(KeyFrame* kf) const;
+  // Neighbours by decreasing weight (ties by id), at most n.
+  [[nodiscard]] std::vector<KeyFrame*> best_covisibles(std::size_t n) const;
+  [[nodiscard]] std::vector<KeyFrame*> covisibles_with_weight(int min_weight) const;
+  [[nodiscard]] const std::vector<KeyFrame*>& ordered_covisibles() const { return ordered_neighbours_; }
+
+  // --- spanning tree and loop edges (the essential graph)
+  [[nodiscard]] KeyFrame* parent() const { return parent_; }
+  [[nodiscard]] const std::set<KeyFrame*, ById>& children() const { return children_; }
+  void change_parent(KeyFrame* parent);
+  void add_loop_edge(KeyFrame* kf) { loop_edges_.insert(kf); }
+  [[nodiscard]] const std::set<KeyFrame*, ById>& loop_edges() const { return loop_edges_; }
+  // Essential-graph neighbours: parent, children, loop edges and covisibles with weight >= min_weight.
+  [[nodiscard]] std::vector<KeyFrame*> essential_neighbours(int min_weight = 100) const;
+
+  // Removes the keyframe from the graphs and the map; its children are re-attached to the
+  // spanning tree. Its pose relative to its parent is kept so that frames referring to it still
+  // follow map corrections. Keyframe 0 (the map origin) is never removed.
+  void set_bad();
+  [[nodiscard]] bool is_bad() const { return bad_; }
+  // Parent-relative pose T_c,parent recorded when the keyframe went bad.
+  [[nodiscard]] const Eigen::Isometry3d& T_c_parent() const { return T_c_parent_; }
+  // Loop closing can protect a keyframe from culling while it works on it.
+  void set_not_erase(bool v) { not_erase_ = v; }
+
+  // Scratch marks (the frame / keyframe id of the last operation that touched it).
+  std::uint64_t track_reference_for_frame = UINT64_MAX;
+  std::uint64_t fuse_target_for_kf = UINT64_MAX;
+  std::uint64_t local_ba_for_kf = UINT64_MAX;
+  std::uint64_t fixed_ba_for_kf = UINT64_MAX;
+
+ private:
+  void update_best_covisibles();
+
+  std::uint64_t id_;
+  data::Frame frame_;
+  Eigen::Isometry3d T_cw_;
+  std::vector<MapPoint*> points_;
+  std::map<KeyFrame*, int, ById> connections_;
+  std::vector<KeyFrame*> ordered_neighbours_;
+  std::vector<int> ordered_weights_;
+  bool first_connection_ = true;
+  KeyFrame* parent_ = nullptr;
+  std::set<KeyFrame*, ById> children_;
+  std::set<KeyFrame*, ById> loop_edges_;
+  bool bad_ = false;
+  bool not_erase_ = false;
+  Eigen::Isometry3d T_c_parent_ = Eigen::Isometry3d::Identity();
+  Map* map_;
+};
+
+}  // namespace lrd::map

@@ -1,0 +1,334 @@
+#include "lrd/mapping/local_mapper.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "lrd/geometry/triangulation.h"
+#include "lrd/map/keyframe.h"
+#include "lrd/map/map.h"
+#include "lrd/map/map_point.h"
+
+namespace lrd::mapping {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+LocalMapperParams LocalMapperParams::from_config(config::NodeReader r) {
+  LocalMapperParams p;
+  p.triangulation_neighbours = r.get("triangulation_neighbours", p.triangulation_neighbours);
+  r.check(p.triangulation_neighbours >= 0, "triangulation_neighbours", "must be >= 0");
+  p.fuse_neighbours = r.get("fuse_neighbours", p.fuse_neighbours);
+  p.fuse_second_neighbours = r.get("fuse_second_neighbours", p.fuse_second_neighbours);
+  p.local_ba = r.get("local_ba", p.local_ba);
+  p.ba.first_iterations = r.get("ba_first_iterations", p.ba.first_iterations);
+  p.ba.second_iterations = r.get("ba_second_iterations", p.ba.second_iterations);
+  r.check(p.ba.first_iterations >= 1 && p.ba.second_iterations >= 0, "ba_first_iterations",
+          "iterations must be positive");
+  p.ba.max_local_keyframes = r.get("ba_max_local_keyframes", p.ba.max_local_keyframes);
+  p.keyframe_culling = r.get("keyframe_culling", p.keyframe_culling);
+  p.redundant_ratio = r.get("redundant_ratio", p.redundant_ratio);
+  r.check(p.redundant_ratio > 0.0 && p.redundant_ratio <= 1.0, "redundant_ratio", "must be in (0, 1]");
+  p.redundant_observers = r.get("redundant_observers", p.redundant_observers);
+  p.max_queued = r.get("max_queued", p.max_queued);
+  r.check(p.max_queued >= 1, "max_queued", "must be >= 1");
+  r.finish();
+  return p;
+}
+
+LocalMapper::LocalMapper(map::Map& map, LocalMapperParams params, bool threaded)
+    : map_(map), params_(params), threaded_(threaded), matcher_(match::MatcherParams{0.6f, false}) {
+  if (threaded_) thread_ = std::thread([this] { run(); });
+}
+
+LocalMapper::~LocalMapper() { shutdown(); }
+
+void LocalMapper::insert_keyframe(map::KeyFrame* kf) {
+  {
+    std::lock_guard lock(queue_mutex_);
+    queue_.push_back(kf);
+  }
+  abort_ba_.store(true);
+  queue_cv_.notify_one();
+}
+
+std::size_t LocalMapper::queued() const {
+  std::lock_guard lock(queue_mutex_);
+  return queue_.size();
+}
+
+void LocalMapper::process_queued() {
+  for (;;) {
+    map::KeyFrame* kf;
+    {
+      std::lock_guard lock(queue_mutex_);
+      if (queue_.empty()) return;
+      kf = queue_.front();
+      queue_.pop_front();
+    }
+    process(kf);
+  }
+}
+
+void LocalMapper::shutdown() {
+  if (!threaded_) {
+    process_queued();
+    return;
+  }
+  {
+    std::lock_guard lock(queue_mutex_);
+    stop_ = true;
+  }
+  queue_cv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+LocalMapperStats LocalMapper::stats() const {
+  std::lock_guard lock(stats_mutex_);
+  return stats_;
+}
+
+void LocalMapper::run() {
+  for (;;) {
+    map::KeyFrame* kf;
+    {
+      std::unique_lock lock(queue_mutex_);
+      queue_cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+      if (queue_.empty()) return;  // stop requested and nothing left
+      kf = queue_.front();
+      queue_.pop_front();
+      accepting_.store(false);
+    }
+    process(kf);
+    accepting_.store(true);
+  }
+}
+
+void LocalMapper::process(map::KeyFrame* kf) {
+  const auto t0 = std::chrono::steady_clock::now();
+  process_new_keyframe(kf);
+  cull_recent_map_points(kf);
+  create_new_map_points(kf);
+  if (!has_queued()) search_in_neighbours(kf);
+  abort_ba_.store(false);
+  if (!has_queued()) {
+    if (params_.local_ba) {
+      const auto tb = std::chrono::steady_clock::now();
+      // Lock-step runs never abort: the result must not depend on timing.
+      const auto ba = optim::local_bundle_adjustment(kf, map_, threaded_ ? &abort_ba_ : nullptr, params_.ba);
+      std::lock_guard lock(stats_mutex_);
+      ++stats_.bundle_adjustments;
+      if (ba.aborted) ++stats_.aborted_bundle_adjustments;
+      stats_.ba_seconds += seconds_since(tb);
+    }
+    if (params_.keyframe_culling) cull_keyframes(kf);
+  }
+  std::lock_guard lock(stats_mutex_);
+  ++stats_.keyframes;
+  stats_.busy_seconds += seconds_since(t0);
+}
+
+void LocalMapper::process_new_keyframe(map::KeyFrame* kf) {
+  std::lock_guard lock(map_.mutex());
+  if (kf->is_bad()) return;
+  const auto& points = kf->map_points();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    map::MapPoint* mp = points[i];
+    if (mp == nullptr || mp->is_bad()) continue;
+    if (!mp->is_in_keyframe(kf)) {
+      // Matched by tracking: the keyframe becomes one more observation.
+      mp->add_observation(kf, i);
+      mp->update_normal_and_depth();
+      mp->compute_distinctive_descriptor();
+    } else {
+      // Created by tracking from this keyframe's depth: watch it in its first keyframes.
+      recent_points_.push_back(mp);
+    }
+  }
+  kf->update_connections();
+}
+
+void LocalMapper::cull_recent_map_points(map::KeyFrame* kf) {
+  std::lock_guard lock(map_.mutex());
+  constexpr int kMinObservations = 3;  // RGB-D (ORB-SLAM2: 2 monocular, 3 otherwise)
+  const std::uint64_t current = kf->id();
+  for (auto it = recent_points_.begin(); it != recent_points_.end();) {
+    map::MapPoint* mp = *it;
+    if (mp->is_bad()) {
+      it = recent_points_.erase(it);
+    } else if (mp->found_ratio() < 0.25f) {
+      mp->set_bad();
+      it = recent_points_.erase(it);
+    } else if (current >= mp->first_keyframe_id() + 2 && mp->num_observations() <= kMinObservations) {
+      mp->set_bad();
+      it = recent_points_.erase(it);
+    } else if (current >= mp->first_keyframe_id() + 3) {
+      it = recent_points_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+void LocalMapper::create_new_map_points(map::KeyFrame* kf) {
+  std::vector<map::KeyFrame*> neighbours;
+  {
+    std::lock_guard lock(map_.mutex());
+    if (kf->is_bad()) return;
+    neighbours = kf->best_covisibles(static_cast<std::size_t>(params_.triangulation_neighbours));
+  }
+  for (std::size_t n = 0; n < neighbours.size(); ++n) {
+    if (n > 0 && has_queued()) return;  // tracking is waiting for the next keyframe
+    std::lock_guard lock(map_.mutex());
+    map::KeyFrame* kf2 = neighbours[n];
+    if (kf->is_bad() || kf2->is_bad()) continue;
+    const data::Frame& f1 = kf->features();
+    const data::Frame& f2 = kf2->features();
+    const camera::PinholeCamera& cam = f1.camera();
+    const Eigen::Vector3d o1 = kf->camera_center(), o2 = kf2->camera_center();
+    // Too short a baseline adds nothing that the depth sensor does not give already.
+    if ((o2 - o1).norm() < cam.baseline()) continue;
+    const Eigen::Matrix3d F12 = geometry::fundamental_matrix(kf->T_cw(), kf2->T_cw(), cam.K());
+    const auto matches = matcher_.search_for_triangulation(*kf, *kf2, F12);
+    const Eigen::Isometry3d T1 = kf->T_cw(), T2 = kf2->T_cw();
+    const Eigen::Matrix3d R1wc = T1.rotation().transpose(), R2wc = T2.rotation().transpose();
+    const float ratio_factor = 1.5f * f1.scale_factors()[1];
+    std::uint64_t created = 0;
+    for (const auto& [i1, i2] : matches) {
+      const cv::KeyPoint& kp1 = f1.undistorted()[i1];
+      const cv::KeyPoint& kp2 = f2.undistorted()[i2];
+      const float ur1 = f1.u_right(i1), ur2 = f2.u_right(i2);
+      const bool stereo1 = ur1 >= 0.0f, stereo2 = ur2 >= 0.0f;
+      const Eigen::Vector3d xn1((kp1.pt.x - cam.cx) / cam.fx, (kp1.pt.y - cam.cy) / cam.fy, 1.0);
+      const Eigen::Vector3d xn2((kp2.pt.x - cam.cx) / cam.fx, (kp2.pt.y - cam.cy) / cam.fy, 1.0);
+      const Eigen::Vector3d ray1 = R1wc * xn1, ray2 = R2wc * xn2;
+      const double cos_rays = ray1.dot(ray2) / (ray1.norm() * ray2.norm());
+      // Parallax the depth sensor's virtual stereo pair gives each view.
+      double cos_stereo1 = cos_rays + 1.0, cos_stereo2 = cos_rays + 1.0;
+      if (stereo1) cos_stereo1 = std::cos(2.0 * std::atan2(cam.baseline() / 2.0, f1.depth(i1)));
+      if (stereo2) cos_stereo2 = std::cos(2.0 * std::atan2(cam.baseline() / 2.0, f2.depth(i2)));
+      const double cos_stereo = std::min(cos_stereo1, cos_stereo2);
+      std::optional<Eigen::Vector3d> x;
+      if (cos_rays < cos_stereo && cos_rays > 0.0 && (stereo1 || stereo2 || cos_rays < 0.9998)) {
+        x = geometry::triangulate(xn1, T1, xn2, T2);
+      } else if (stereo1 && cos_stereo1 < cos_stereo2) {
+        x = T1.inverse() * cam.unproject(kp1.pt.x, kp1.pt.y, f1.depth(i1));
+      } else if (stereo2 && cos_stereo2 < cos_stereo1) {
+        x = T2.inverse() * cam.unproject(kp2.pt.x, kp2.pt.y, f2.depth(i2));
+      }
+      if (!x) continue;
+      const Eigen::Vector3d p1 = T1 * *x, p2 = T2 * *x;
+      if (p1.z() <= 0.0 || p2.z() <= 0.0) continue;
+      // Reprojection error in both views (chi-square, 2 or 3 dof).
+      auto reprojection_ok = [&](const Eigen::Vector3d& p, const cv::KeyPoint& kp, float ur, bool stereo,
+                                 const data::Frame& f) {
+        const Eigen::Vector2d uv = cam.project(p);
+        const double ex = uv.x() - kp.pt.x, ey = uv.y() - kp.pt.y;
+        const double s2 = f.level_sigma2()[static_cast<std::size_t>(kp.octave)];
+        if (!stereo) return ex * ex + ey * ey <= 5.991 * s2;
+        const double er = uv.x() - cam.bf / p.z() - ur;
+        return ex * ex + ey * ey + er * er <= 7.8 * s2;
+      };
+      if (!reprojection_ok(p1, kp1, ur1, stereo1, f1) || !reprojection_ok(p2, kp2, ur2, stereo2, f2)) continue;
+      // Scale consistency: the distance ratio must agree with the pyramid-level ratio.
+      const double dist1 = (*x - o1).norm(), dist2 = (*x - o2).norm();
+      if (dist1 == 0.0 || dist2 == 0.0) continue;
+      const double ratio_dist = dist2 / dist1;
+      const double ratio_octave = f1.scale_factors()[static_cast<std::size_t>(kp1.octave)] /
+                                  f2.scale_factors()[static_cast<std::size_t>(kp2.octave)];
+      if (ratio_dist * ratio_factor < ratio_octave || ratio_dist > ratio_octave * ratio_factor) continue;
+
+      map::MapPoint* mp = map_.create_map_point(*x, kf, kf->frame_id());
+      mp->add_observation(kf, i1);
+      mp->add_observation(kf2, i2);
+      kf->add_map_point(mp, i1);
+      kf2->add_map_point(mp, i2);
+      mp->compute_distinctive_descriptor();
+      mp->update_normal_and_depth();
+      recent_points_.push_back(mp);
+      ++created;
+    }
+    std::lock_guard slock(stats_mutex_);
+    stats_.triangulated_points += created;
+  }
+}
+
+void LocalMapper::search_in_neighbours(map::KeyFrame* kf) {
+  std::lock_guard lock(map_.mutex());
+  if (kf->is_bad()) return;
+  const std::uint64_t tag = kf->id();
+  std::vector<map::KeyFrame*> targets;
+  for (map::KeyFrame* n : kf->best_covisibles(static_cast<std::size_t>(params_.fuse_neighbours))) {
+    if (n->is_bad() || n->fuse_target_for_kf == tag) continue;
+    n->fuse_target_for_kf = tag;
+    targets.push_back(n);
+  }
+  const std::size_t first_order = targets.size();
+  for (std::size_t i = 0; i < first_order; ++i) {
+    for (map::KeyFrame* n2 : targets[i]->best_covisibles(static_cast<std::size_t>(params_.fuse_second_neighbours))) {
+      if (n2->is_bad() || n2->fuse_target_for_kf == tag || n2 == kf) continue;
+      n2->fuse_target_for_kf = tag;
+      targets.push_back(n2);
+    }
+  }
+  // The new keyframe's points into the neighbours ...
+  for (map::KeyFrame* t : targets) matcher_.fuse(*t, kf->map_points());
+  // ... and the neighbours' points into the new keyframe.
+  std::vector<map::MapPoint*> candidates;
+  for (map::KeyFrame* t : targets) {
+    for (map::MapPoint* mp : t->map_points()) {
+      if (mp == nullptr || mp->is_bad() || mp->fuse_candidate_for_kf == tag) continue;
+      mp->fuse_candidate_for_kf = tag;
+      candidates.push_back(mp);
+    }
+  }
+  matcher_.fuse(*kf, candidates);
+  for (map::MapPoint* mp : kf->map_points()) {
+    if (mp == nullptr || mp->is_bad()) continue;
+    mp->compute_distinctive_descriptor();
+    mp->update_normal_and_depth();
+  }
+  kf->update_connections();
+}
+
+void LocalMapper::cull_keyframes(map::KeyFrame* kf) {
+  std::lock_guard lock(map_.mutex());
+  if (kf->is_bad()) return;
+  const std::vector<map::KeyFrame*> local = kf->ordered_covisibles();
+  const int needed = params_.redundant_observers;
+  std::uint64_t culled = 0;
+  for (map::KeyFrame* k2 : local) {
+    if (k2->id() == 0 || k2->is_bad()) continue;
+    const data::Frame& f2 = k2->features();
+    const double close = f2.camera().close_depth_threshold();
+    int n_points = 0, redundant = 0;
+    const auto& points = k2->map_points();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      map::MapPoint* mp = points[i];
+      if (mp == nullptr || mp->is_bad()) continue;
+      // RGB-D: only close points count (far ones are weakly constrained).
+      if (f2.depth(i) > close || f2.depth(i) < 0.0f) continue;
+      ++n_points;
+      if (mp->num_observations() <= needed) continue;
+      const int level = f2.undistorted()[i].octave;
+      int observers = 0;
+      for (const auto& [k3, idx3] : mp->observations()) {
+        if (k3 == k2) continue;
+        if (k3->features().undistorted()[idx3].octave <= level + 1 && ++observers >= needed) break;
+      }
+      if (observers >= needed) ++redundant;
+    }
+    if (n_points > 0 && redundant > params_.redundant_ratio * n_points) {
+      k2->set_bad();
+      ++culled;
+    }
+  }
+  std::lock_guard slock(stats_mutex_);
+  stats_.culled_keyframes += culled;
+}
+
+}  // namespace lrd::mapping

@@ -1,0 +1,104 @@
+#pragma once
+// Local mapping (ORB-SLAM2's LocalMapping, paper §2.2): takes the keyframes tracking decides on
+// and grows the map around them: registers their observations, culls recent map points that
+// tracking fails to find, triangulates new points with covisible keyframes, fuses duplicates,
+// runs local bundle adjustment and removes redundant keyframes.
+//
+// Threaded (default) it runs on its own thread, fed by a queue; in lock-step mode (deterministic
+// runs) process_queued() does the same work in the caller's thread after each keyframe, so that
+// the result does not depend on thread timing.
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <list>
+#include <mutex>
+#include <thread>
+
+#include "lrd/config/node_reader.h"
+#include "lrd/match/orb_matcher.h"
+#include "lrd/optim/local_bundle_adjuster.h"
+
+namespace lrd::map {
+class KeyFrame;
+class Map;
+class MapPoint;
+}  // namespace lrd::map
+
+namespace lrd::mapping {
+
+struct LocalMapperParams {
+  int triangulation_neighbours = 10;  // covisible keyframes searched for new points
+  int fuse_neighbours = 10;           // first- and second-order neighbours for duplicate fusion
+  int fuse_second_neighbours = 5;
+  bool local_ba = true;
+  optim::LocalBundleAdjustmentParams ba;
+  bool keyframe_culling = true;
+  double redundant_ratio = 0.9;  // a keyframe goes when this share of its points ...
+  int redundant_observers = 3;   // ... is seen by this many other keyframes at a similar scale
+  int max_queued = 3;            // tracking stops proposing keyframes beyond this queue length
+
+  // Reads the `mapping` section of the config (and finishes it).
+  static LocalMapperParams from_config(config::NodeReader reader);
+};
+
+struct LocalMapperStats {
+  std::uint64_t keyframes = 0;
+  std::uint64_t culled_keyframes = 0;
+  std::uint64_t triangulated_points = 0;
+  std::uint64_t bundle_adjustments = 0;
+  std::uint64_t aborted_bundle_adjustments = 0;
+  double ba_seconds = 0.0;
+  double busy_seconds = 0.0;
+};
+
+class LocalMapper {
+ public:
+  LocalMapper(map::Map& map, LocalMapperParams params, bool threaded);
+  ~LocalMapper();
+  LocalMapper(const LocalMapper&) = delete;
+  LocalMapper& operator=(const LocalMapper&) = delete;
+
+  // Called by tracking (which may hold the map mutex: only the queue's own lock is taken).
+  void insert_keyframe(map::KeyFrame* kf);
+  // Idle and ready for a keyframe (ORB-SLAM2's AcceptKeyFrames).
+  [[nodiscard]] bool accepts_keyframes() const { return accepting_.load(); }
+  [[nodiscard]] std::size_t queued() const;
+  [[nodiscard]] const LocalMapperParams& params() const { return params_; }
+  void interrupt_ba() { abort_ba_.store(true); }
+
+  // Lock-step mode: processes every queued keyframe now, in the calling thread, which must not
+  // hold the map mutex.
+  void process_queued();
+  // Processes what is queued and stops the thread. Idempotent.
+  void shutdown();
+  [[nodiscard]] LocalMapperStats stats() const;
+
+ private:
+  void run();
+  void process(map::KeyFrame* kf);
+  void process_new_keyframe(map::KeyFrame* kf);
+  void cull_recent_map_points(map::KeyFrame* kf);
+  void create_new_map_points(map::KeyFrame* kf);
+  void search_in_neighbours(map::KeyFrame* kf);
+  void cull_keyframes(map::KeyFrame* kf);
+  [[nodiscard]] bool has_queued() const { return queued() > 0; }
+
+  map::Map& map_;
+  const LocalMapperParams params_;
+  const bool threaded_;
+  match::OrbMatcher matcher_;
+  std::list<map::MapPoint*> recent_points_;  // this thread only
+
+  mutable std::mutex queue_mutex_;
+  std::condition_variable queue_cv_;
+  std::deque<map::KeyFrame*> queue_;
+  bool stop_ = false;
+  std::atomic<bool> accepting_{true};
+  std::atomic<bool> abort_ba_{false};
+  mutable std::mutex stats_mutex_;
+  LocalMapperStats stats_;
+  std::thread thread_;
+};
+
+}  // namespace lrd::mapping

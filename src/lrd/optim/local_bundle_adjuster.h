@@ -1,0 +1,42 @@
+#pragma once
+// Local bundle adjustment (ORB-SLAM2's LocalBundleAdjustment, paper §2.2), on Ceres: the poses of
+// a keyframe and its covisible keyframes and every map point they see are refined jointly; the
+// other keyframes observing those points stay fixed and anchor the gauge. Two rounds: a few
+// iterations with a Huber kernel, then, with outliers (chi-square above 5.991 / 7.815, or behind
+// the camera) left out, more iterations without it; finally the outlier observations are erased.
+//
+// Only the reading of the problem and the write-back hold Map::mutex(); the solve runs unlocked,
+// so tracking goes on meanwhile. An `abort` flag stops the solve (a new keyframe arrived).
+#include <atomic>
+
+namespace lrd::map {
+class KeyFrame;
+class Map;
+}  // namespace lrd::map
+
+namespace lrd::optim {
+
+struct LocalBundleAdjustmentParams {
+  int first_iterations = 5;
+  int second_iterations = 10;
+  double chi2_mono = 5.991;
+  double chi2_stereo = 7.815;
+  int max_local_keyframes = 0;  // 0: every covisible keyframe (ORB-SLAM2)
+};
+
+struct LocalBundleAdjustmentStats {
+  int local_keyframes = 0;
+  int fixed_keyframes = 0;
+  int points = 0;
+  int observations = 0;
+  int outliers = 0;
+  double initial_rms_px = 0.0;  // weighted reprojection error before and after
+  double final_rms_px = 0.0;
+  bool aborted = false;
+};
+
+LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map::Map& map,
+                                                   const std::atomic<bool>* abort = nullptr,
+                                                   const LocalBundleAdjustmentParams& params = {});
+
+}  // namespace lrd::optim

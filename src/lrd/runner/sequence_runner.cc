@@ -1,0 +1,200 @@
+#include "lrd/runner/sequence_runner.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <opencv2/imgproc.hpp>
+#include <regex>
+
+#include "lrd/config/orbslam_settings.h"
+#include "lrd/eval/ate.h"
+#include "lrd/eval/rpe.h"
+#include "lrd/io/frame_prefetcher.h"
+#include "lrd/io/trajectory.h"
+#include "lrd/io/tum_sequence.h"
+#include "lrd/runner/progress_bar.h"
+#include "lrd/util/error.h"
+
+namespace lrd::runner {
+
+namespace fs = std::filesystem;
+
+config::Config resolve_config(const RunOptions& o, std::string* source) {
+  config::Config cfg = o.config ? config::load_config(*o.config) : config::Config{};
+  std::string from;
+  if (o.settings && o.preset) throw Error("--settings and --preset cannot be combined");
+  if (o.settings) {
+    const config::Settings s = config::read_orbslam_settings(*o.settings);
+    cfg.camera = s.camera;
+    cfg.features = s.orb;
+    from = "settings " + o.settings->string();
+  } else if (o.preset) {
+    cfg.camera = camera::camera_preset(*o.preset);
+    from = "preset " + *o.preset;
+  } else if (cfg.camera_given) {
+    from = "config " + cfg.file.string();
+  } else if (fs::exists(o.sequence / "settings.yaml")) {
+    const config::Settings s = config::read_orbslam_settings(o.sequence / "settings.yaml");
+    cfg.camera = s.camera;
+    from = "settings " + (o.sequence / "settings.yaml").string();
+  } else {
+    // TUM folder names carry the sensor: rgbd_dataset_freiburg3_walking_xyz.
+    static const std::regex freiburg("freiburg([123])");
+    std::smatch m;
+    const std::string name = fs::absolute(o.sequence).lexically_normal().filename().string();
+    if (std::regex_search(name, m, freiburg)) {
+      cfg.camera = camera::camera_preset("tum" + m[1].str());
+      from = "preset tum" + m[1].str() + " (from the folder name)";
+    } else {
+      from = "preset tum3 (default)";
+    }
+  }
+  if (source != nullptr) *source = from;
+  return cfg;
+}
+
+namespace {
+
+StageSummary summarize(std::vector<double> ms) {
+  StageSummary s;
+  if (ms.empty()) return s;
+  s.mean_ms = std::accumulate(ms.begin(), ms.end(), 0.0) / static_cast<double>(ms.size());
+  const std::size_t mid = ms.size() / 2;
+  std::nth_element(ms.begin(), ms.begin() + static_cast<long>(mid), ms.end());
+  s.median_ms = ms[mid];
+  if (ms.size() % 2 == 0) {
+    const double lower = *std::max_element(ms.begin(), ms.begin() + static_cast<long>(mid));
+    s.median_ms = 0.5 * (s.median_ms + lower);
+  }
+  return s;
+}
+
+void write_track_times(const fs::path& file, const std::vector<FrameLog>& log) {
+  std::ofstream out(file);
+  out << "# frame timestamp extraction_ms tracking_ms waiting_ms mapping_ms total_ms state inliers\n";
+  for (const FrameLog& f : log)
+    out << fmt::format("{} {:.6f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {} {}\n", f.index, f.timestamp,
+                       1e3 * f.timing.extraction, 1e3 * f.timing.tracking, 1e3 * f.timing.waiting,
+                       1e3 * f.timing.mapping, 1e3 * f.timing.total(), tracking::to_string(f.state), f.inliers);
+  out.close();
+  if (!out) throw file_error(file.string(), "cannot write");
+}
+
+nlohmann::json stage_json(const StageSummary& s) { return {{"median_ms", s.median_ms}, {"mean_ms", s.mean_ms}}; }
+
+}  // namespace
+
+void write_summary_json(const fs::path& file, const RunReport& r) {
+  nlohmann::json j = {
+      {"camera", r.camera_source},
+      {"frames", r.frames},
+      {"tracked", r.tracked},
+      {"lost", r.lost},
+      {"not_initialized", r.not_initialized},
+      {"keyframes", r.map.keyframes},
+      {"map_points", r.map.map_points},
+      {"culled_keyframes", r.map.culled_keyframes},
+      {"bundle_adjustments", r.map.bundle_adjustments},
+      {"per_frame", {{"extraction", stage_json(r.extraction)},
+                     {"tracking", stage_json(r.tracking)},
+                     {"waiting", stage_json(r.waiting)},
+                     {"mapping", stage_json(r.mapping)},
+                     {"total", stage_json(r.total)}}},
+      {"wall_seconds", r.wall_seconds},
+      {"decode_seconds", r.decode_seconds},
+      {"io_wait_seconds", r.io_wait_seconds},
+  };
+  if (r.has_ground_truth) {
+    j["ate"] = {{"rmse", r.ate_rmse}, {"mean", r.ate_mean}, {"median", r.ate_median}, {"max", r.ate_max},
+                {"pairs", r.ate_pairs}};
+    j["rpe"] = {{"trans_rmse", r.rpe_trans_rmse}, {"rot_rmse", r.rpe_rot_rmse}};
+  }
+  std::ofstream out(file);
+  out << j.dump(2) << '\n';
+  out.close();
+  if (!out) throw file_error(file.string(), "cannot write");
+}
+
+RunReport run_sequence(const RunOptions& o) {
+  RunReport report;
+  const config::Config cfg = resolve_config(o, &report.camera_source);
+  const io::TumSequence seq = io::TumSequence::open(o.sequence);
+  if (seq.size() == 0) throw file_error(o.sequence.string(), "the sequence has no frames");
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (ec) throw file_error(o.out.string(), "cannot create the output folder: " + ec.message());
+
+  io::PrefetchOptions popts;
+  if (o.max_frames > 0) popts.end = o.max_frames;
+  const auto wall0 = std::chrono::steady_clock::now();
+  io::FramePrefetcher frames(seq, cfg.camera.depth_map_factor, popts);
+  System slam(cfg, SystemOptions{o.deterministic});
+  ProgressBar bar(frames.size(), o.progress);
+  cv::Mat rgb;
+  while (auto f = frames.next()) {
+    // The loader gives BGR; the system expects the camera's colour order.
+    if (cfg.camera.rgb_order) cv::cvtColor(f->rgb, rgb, cv::COLOR_BGR2RGB);
+    else rgb = f->rgb;
+    const TrackResult r = slam.track_rgbd(rgb, f->depth, f->timestamp);
+    report.log.push_back({f->index, f->timestamp, r.state, r.timing, r.inliers});
+    bar.update(report.log.size(), fmt::format("{} ({} inliers)", tracking::to_string(r.state), r.inliers));
+  }
+  bar.finish();
+  slam.shutdown();
+  report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const io::DecodeStats ds = frames.stats();
+  report.decode_seconds = ds.decode_seconds;
+  report.io_wait_seconds = ds.wait_seconds;
+
+  report.frames = report.log.size();
+  std::vector<double> ext, trk, wai, map, tot;
+  for (const FrameLog& f : report.log) {
+    report.tracked += f.state == TrackingState::Ok;
+    report.lost += f.state == TrackingState::Lost;
+    report.not_initialized += f.state == TrackingState::NotInitialized;
+    ext.push_back(1e3 * f.timing.extraction);
+    trk.push_back(1e3 * f.timing.tracking);
+    wai.push_back(1e3 * f.timing.waiting);
+    map.push_back(1e3 * f.timing.mapping);
+    tot.push_back(1e3 * f.timing.total());
+  }
+  report.extraction = summarize(ext);
+  report.tracking = summarize(trk);
+  report.waiting = summarize(wai);
+  report.mapping = summarize(map);
+  report.total = summarize(tot);
+  report.map = slam.map_stats();
+
+  const io::Trajectory trajectory = slam.trajectory();
+  io::write_trajectory_tum(o.out / "CameraTrajectory.txt", trajectory);
+  slam.save_keyframe_trajectory_tum(o.out / "KeyFrameTrajectory.txt");
+  write_track_times(o.out / "track_times.txt", report.log);
+
+  if (seq.groundtruth_path() && trajectory.size() >= 2) {
+    const io::Trajectory gt = io::read_trajectory_tum(*seq.groundtruth_path());
+    try {
+      const eval::AteResult ate = eval::compute_ate(gt, trajectory);
+      const eval::RpeResult rpe = eval::compute_rpe(gt, trajectory, 1.0);
+      report.has_ground_truth = true;
+      report.ate_rmse = ate.stats.rmse;
+      report.ate_mean = ate.stats.mean;
+      report.ate_median = ate.stats.median;
+      report.ate_max = ate.stats.max;
+      report.ate_pairs = ate.stats.count;
+      report.rpe_trans_rmse = rpe.trans.rmse;
+      report.rpe_rot_rmse = rpe.rot.rmse;
+    } catch (const Error& e) {
+      spdlog::warn("no ATE/RPE: {} vs {}: {}", (o.out / "CameraTrajectory.txt").string(),
+                   seq.groundtruth_path()->string(), e.what());
+    }
+  }
+  write_summary_json(o.out / "summary.json", report);
+  return report;
+}
+
+}  // namespace lrd::runner

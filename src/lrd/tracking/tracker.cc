@@ -1,0 +1,407 @@
+#include "lrd/tracking/tracker.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <mutex>
+
+#include <spdlog/spdlog.h>
+
+#include "lrd/map/keyframe.h"
+#include "lrd/map/map.h"
+#include "lrd/map/map_point.h"
+#include "lrd/mapping/local_mapper.h"
+
+namespace lrd::tracking {
+
+TrackerParams TrackerParams::from_config(config::NodeReader r) {
+  TrackerParams p;
+  p.init_min_features = r.get("init_min_features", p.init_min_features);
+  r.check(p.init_min_features >= 10, "init_min_features", "must be >= 10");
+  p.motion_model_radius = r.get("motion_model_radius", p.motion_model_radius);
+  r.check(p.motion_model_radius > 0, "motion_model_radius", "must be > 0");
+  p.min_motion_matches = r.get("min_motion_matches", p.min_motion_matches);
+  p.min_reference_matches = r.get("min_reference_matches", p.min_reference_matches);
+  p.min_pose_inliers = r.get("min_pose_inliers", p.min_pose_inliers);
+  p.min_local_map_inliers = r.get("min_local_map_inliers", p.min_local_map_inliers);
+  p.max_local_keyframes = r.get("max_local_keyframes", p.max_local_keyframes);
+  r.check(p.max_local_keyframes >= 1, "max_local_keyframes", "must be >= 1");
+  p.local_map_radius = r.get("local_map_radius", p.local_map_radius);
+  p.max_frames_between_keyframes = r.get("max_frames_between_keyframes", p.max_frames_between_keyframes);
+  p.min_frames_between_keyframes = r.get("min_frames_between_keyframes", p.min_frames_between_keyframes);
+  p.reference_ratio = r.get("reference_ratio", p.reference_ratio);
+  r.check(p.reference_ratio > 0 && p.reference_ratio <= 1, "reference_ratio", "must be in (0, 1]");
+  p.keyframe_close_points = r.get("keyframe_close_points", p.keyframe_close_points);
+  r.finish();
+  return p;
+}
+
+Tracker::Tracker(map::Map& map, mapping::LocalMapper& mapper, TrackerParams params)
+    : map_(map),
+      mapper_(mapper),
+      params_(params),
+      motion_matcher_({0.9f, true}),
+      reference_matcher_({0.7f, true}),
+      local_matcher_({0.8f, false}) {}
+
+TrackingState Tracker::track(data::Frame& frame, double* wait_seconds) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::unique_lock lock(map_.mutex());
+  if (wait_seconds != nullptr)
+    *wait_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  if (state_ == TrackingState::NotInitialized) {
+    initialize(frame);
+  } else {
+    // Points replaced by fusion since the last frame.
+    for (auto& mp : last_frame_->map_points)
+      if (mp != nullptr && mp->replaced_by() != nullptr) {
+        while (mp->replaced_by() != nullptr) mp = mp->replaced_by();
+      }
+    update_last_frame();
+    bool ok;
+    if (state_ == TrackingState::Ok) {
+      ok = false;
+      if (velocity_ && !recently_recovered(frame)) ok = track_with_motion_model(frame);
+      if (!ok) ok = track_reference_keyframe(frame);
+    } else {
+      // Lost: until relocalization lands, try to recover against the last reference keyframe
+      // from the last known pose.
+      ok = track_reference_keyframe(frame);
+      if (ok) {
+        recovered_ = true;
+        recovered_frame_id_ = frame.id();
+        velocity_.reset();
+      }
+    }
+    if (ok) ok = track_local_map(frame);
+    state_ = ok ? TrackingState::Ok : TrackingState::Lost;
+    if (ok) {
+      velocity_ = frame.T_cw() * last_frame_->T_wc();
+      if (need_new_keyframe(frame)) create_new_keyframe(frame);
+      // Outliers do not carry over to the next frame's motion model.
+      for (std::size_t i = 0; i < frame.size(); ++i)
+        if (frame.outliers[i]) frame.map_points[i] = nullptr;
+    } else {
+      velocity_.reset();
+    }
+  }
+
+  FrameRecord rec;
+  rec.frame_id = frame.id();
+  rec.timestamp = frame.timestamp();
+  rec.state = state_;
+  rec.inliers = inliers_;
+  if (state_ == TrackingState::Ok && frame.has_pose() && reference_kf_ != nullptr) {
+    rec.reference = reference_kf_;
+    rec.T_c_ref = frame.T_cw() * reference_kf_->T_wc();
+    last_frame_reference_ = reference_kf_;
+    last_T_c_ref_ = rec.T_c_ref;
+  }
+  records_.push_back(rec);
+  if (state_ == TrackingState::Ok) last_frame_ = frame;
+  else if (last_frame_) last_frame_->map_points.assign(last_frame_->size(), nullptr);
+  return state_;
+}
+
+bool Tracker::recently_recovered(const data::Frame& frame) const {
+  return recovered_ && frame.id() < recovered_frame_id_ + 2;
+}
+
+void Tracker::initialize(data::Frame& frame) {
+  std::size_t with_depth = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i) with_depth += frame.depth(i) > 0.0f ? 1 : 0;
+  if (with_depth < static_cast<std::size_t>(params_.init_min_features)) return;
+
+  // The first keyframe defines the world frame.
+  frame.set_pose(Eigen::Isometry3d::Identity());
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  std::fill(frame.outliers.begin(), frame.outliers.end(), false);
+  map::KeyFrame* kf = map_.create_keyframe(frame);
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    const auto x = frame.unproject_world(i);
+    if (!x) continue;
+    map::MapPoint* mp = map_.create_map_point(*x, kf, frame.id());
+    mp->add_observation(kf, i);
+    kf->add_map_point(mp, i);
+    mp->compute_distinctive_descriptor();
+    mp->update_normal_and_depth();
+    frame.map_points[i] = mp;
+  }
+  mapper_.insert_keyframe(kf);
+  reference_kf_ = kf;
+  last_keyframe_frame_id_ = frame.id();
+  local_keyframes_ = {kf};
+  local_points_ = map_.map_points();
+  inliers_ = static_cast<int>(with_depth);
+  state_ = TrackingState::Ok;
+}
+
+void Tracker::update_last_frame() {
+  // The last frame's pose from its reference keyframe, which local BA may have moved.
+  if (last_frame_reference_ != nullptr && !last_frame_reference_->is_bad())
+    last_frame_->set_pose(last_T_c_ref_ * last_frame_reference_->T_cw());
+}
+
+int Tracker::optimize_pose(data::Frame& frame) {
+  std::vector<optim::PoseObservation> obs;
+  std::vector<std::size_t> index;
+  const camera::PinholeCamera& cam = frame.camera();
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    map::MapPoint* mp = frame.map_points[i];
+    if (mp == nullptr) continue;
+    const cv::KeyPoint& kp = frame.undistorted()[i];
+    obs.push_back({mp->position(), Eigen::Vector2d(kp.pt.x, kp.pt.y), frame.u_right(i),
+                   frame.inv_level_sigma2()[static_cast<std::size_t>(kp.octave)]});
+    index.push_back(i);
+  }
+  if (obs.size() < 3) return 0;
+  const auto result = optim::optimize_pose(cam, obs, frame.T_cw(), params_.pose);
+  frame.set_pose(result.T_cw);
+  for (std::size_t k = 0; k < index.size(); ++k) frame.outliers[index[k]] = result.outlier[k];
+  return result.inliers;
+}
+
+bool Tracker::track_reference_keyframe(data::Frame& frame) {
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  std::fill(frame.outliers.begin(), frame.outliers.end(), false);
+  if (reference_kf_ == nullptr || reference_kf_->is_bad()) return false;
+  const int matches = reference_matcher_.search_by_descriptor(*reference_kf_, frame);
+  spdlog::debug("frame {}: reference keyframe {} matches {}", frame.id(), reference_kf_->id(), matches);
+  if (matches < params_.min_reference_matches) return false;
+  frame.set_pose(last_frame_->T_cw());
+  optimize_pose(frame);
+  int in_map = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    map::MapPoint* mp = frame.map_points[i];
+    if (mp == nullptr) continue;
+    if (frame.outliers[i]) {
+      frame.map_points[i] = nullptr;
+      frame.outliers[i] = false;
+      mp->track.in_view = false;
+      mp->track.last_frame_seen = frame.id();
+    } else if (mp->num_observations() > 0) {
+      ++in_map;
+    }
+  }
+  return in_map >= params_.min_pose_inliers;
+}
+
+bool Tracker::track_with_motion_model(data::Frame& frame) {
+  frame.set_pose(*velocity_ * last_frame_->T_cw());
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  std::fill(frame.outliers.begin(), frame.outliers.end(), false);
+  int matches = motion_matcher_.search_by_projection(frame, *last_frame_, params_.motion_model_radius);
+  if (matches < params_.min_motion_matches) {
+    std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+    matches = motion_matcher_.search_by_projection(frame, *last_frame_, 2.0f * params_.motion_model_radius);
+  }
+  spdlog::debug("frame {}: motion model {} matches", frame.id(), matches);
+  if (matches < params_.min_motion_matches) return false;
+  optimize_pose(frame);
+  int in_map = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    map::MapPoint* mp = frame.map_points[i];
+    if (mp == nullptr) continue;
+    if (frame.outliers[i]) {
+      frame.map_points[i] = nullptr;
+      frame.outliers[i] = false;
+      mp->track.in_view = false;
+      mp->track.last_frame_seen = frame.id();
+    } else if (mp->num_observations() > 0) {
+      ++in_map;
+    }
+  }
+  return in_map >= params_.min_pose_inliers;
+}
+
+bool Tracker::track_local_map(data::Frame& frame) {
+  update_local_keyframes(frame);
+  update_local_points(frame);
+  const int found = search_local_points(frame);
+  optimize_pose(frame);
+  inliers_ = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    map::MapPoint* mp = frame.map_points[i];
+    if (mp == nullptr || frame.outliers[i]) continue;
+    mp->increase_found();
+    if (mp->num_observations() > 0) ++inliers_;
+  }
+  spdlog::debug("frame {}: local map {} kfs {} points, {} found, {} inliers", frame.id(), local_keyframes_.size(),
+                local_points_.size(), found, inliers_);
+  if (recently_recovered(frame) && inliers_ < params_.min_inliers_after_recovery) return false;
+  return inliers_ >= params_.min_local_map_inliers;
+}
+
+void Tracker::update_local_keyframes(data::Frame& frame) {
+  // Keyframes sharing points with the frame, by number of shared points.
+  std::map<map::KeyFrame*, int, map::ById> counter;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    map::MapPoint* mp = frame.map_points[i];
+    if (mp == nullptr) continue;
+    if (mp->is_bad()) {
+      frame.map_points[i] = nullptr;
+      continue;
+    }
+    for (const auto& [kf, idx] : mp->observations()) ++counter[kf];
+  }
+  if (counter.empty()) return;
+  const std::uint64_t tag = frame.id();
+  local_keyframes_.clear();
+  map::KeyFrame* best = nullptr;
+  int best_count = 0;
+  for (const auto& [kf, n] : counter) {
+    if (kf->is_bad()) continue;
+    if (n > best_count) {
+      best_count = n;
+      best = kf;
+    }
+    local_keyframes_.push_back(kf);
+    kf->track_reference_for_frame = tag;
+  }
+  // Plus some neighbours of those: best covisibles, a child and the parent.
+  const std::size_t first_order = local_keyframes_.size();
+  const auto max_kfs = static_cast<std::size_t>(params_.max_local_keyframes);
+  auto try_add = [&](map::KeyFrame* kf) {
+    if (kf == nullptr || kf->is_bad() || kf->track_reference_for_frame == tag) return false;
+    kf->track_reference_for_frame = tag;
+    local_keyframes_.push_back(kf);
+    return true;
+  };
+  for (std::size_t i = 0; i < first_order && local_keyframes_.size() < max_kfs; ++i) {
+    map::KeyFrame* kf = local_keyframes_[i];
+    for (map::KeyFrame* n : kf->best_covisibles(10))
+      if (try_add(n)) break;
+    for (map::KeyFrame* c : kf->children())
+      if (try_add(c)) break;
+    try_add(kf->parent());
+  }
+  if (best != nullptr) reference_kf_ = best;
+}
+
+void Tracker::update_local_points(const data::Frame& frame) {
+  local_points_.clear();
+  const std::uint64_t tag = frame.id();
+  for (map::KeyFrame* kf : local_keyframes_) {
+    for (map::MapPoint* mp : kf->map_points()) {
+      if (mp == nullptr || mp->is_bad() || mp->track.local_for_frame == tag) continue;
+      mp->track.local_for_frame = tag;
+      local_points_.push_back(mp);
+    }
+  }
+}
+
+bool Tracker::in_frustum(const data::Frame& frame, map::MapPoint* mp, float view_cos_limit) const {
+  mp->track.in_view = false;
+  const camera::PinholeCamera& cam = frame.camera();
+  const Eigen::Vector3d pc = frame.T_cw() * mp->position();
+  if (pc.z() <= 0.0) return false;
+  const Eigen::Vector2d uv = cam.project(pc);
+  if (!frame.in_bounds(uv.x(), uv.y())) return false;
+  const Eigen::Vector3d po = mp->position() - frame.T_wc().translation();
+  const float dist = static_cast<float>(po.norm());
+  if (dist < mp->min_distance_invariance() || dist > mp->max_distance_invariance()) return false;
+  const float view_cos = static_cast<float>(po.dot(mp->normal()) / dist);
+  if (view_cos < view_cos_limit) return false;
+  const auto& sf = frame.scale_factors();
+  mp->track.in_view = true;
+  mp->track.proj_x = static_cast<float>(uv.x());
+  mp->track.proj_y = static_cast<float>(uv.y());
+  mp->track.proj_xr = static_cast<float>(uv.x() - cam.bf / pc.z());
+  mp->track.scale_level = mp->predict_scale(dist, std::log(sf.size() > 1 ? sf[1] : 1.2f), static_cast<int>(sf.size()));
+  mp->track.view_cos = view_cos;
+  return true;
+}
+
+int Tracker::search_local_points(data::Frame& frame) {
+  const std::uint64_t tag = frame.id();
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    map::MapPoint* mp = frame.map_points[i];
+    if (mp == nullptr) continue;
+    if (mp->is_bad()) {
+      frame.map_points[i] = nullptr;
+      continue;
+    }
+    mp->increase_visible();
+    mp->track.last_frame_seen = tag;
+    mp->track.in_view = false;
+  }
+  int to_match = 0;
+  for (map::MapPoint* mp : local_points_) {
+    if (mp->track.last_frame_seen == tag || mp->is_bad()) {
+      if (mp->track.last_frame_seen != tag) mp->track.in_view = false;
+      continue;
+    }
+    if (in_frustum(frame, mp, 0.5f)) {
+      mp->increase_visible();
+      ++to_match;
+    }
+  }
+  if (to_match == 0) return 0;
+  const float th = recently_recovered(frame) ? 5.0f : params_.local_map_radius;
+  return local_matcher_.search_by_projection(frame, local_points_, th);
+}
+
+bool Tracker::need_new_keyframe(const data::Frame& frame) const {
+  const std::size_t n_kfs = map_.keyframe_count();
+  const auto max_frames = static_cast<std::uint64_t>(
+      params_.max_frames_between_keyframes > 0 ? params_.max_frames_between_keyframes
+                                               : static_cast<int>(std::lround(frame.camera().fps)));
+  if (recovered_ && frame.id() < recovered_frame_id_ + max_frames && n_kfs > max_frames) return false;
+  const int min_obs = n_kfs <= 2 ? 2 : 3;
+  const int ref_matches = reference_kf_->tracked_map_points(min_obs);
+  const bool idle = mapper_.accepts_keyframes();
+
+  // Close points tracked / not tracked: too few tracked and enough new ones means the view has
+  // moved on to nearby structure the map lacks.
+  int tracked_close = 0, untracked_close = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    if (!frame.is_close(i)) continue;
+    if (frame.map_points[i] != nullptr && !frame.outliers[i]) ++tracked_close;
+    else ++untracked_close;
+  }
+  const bool need_close = tracked_close < 100 && untracked_close > 70;
+  const double ratio = n_kfs < 2 ? 0.4 : params_.reference_ratio;
+  const bool c1a = frame.id() >= last_keyframe_frame_id_ + max_frames;
+  const bool c1b =
+      frame.id() >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(params_.min_frames_between_keyframes) && idle;
+  const bool c1c = inliers_ < ref_matches * 0.25 || need_close;
+  const bool c2 = (inliers_ < ref_matches * ratio || need_close) && inliers_ > 15;
+  if (!((c1a || c1b || c1c) && c2)) return false;
+  if (idle) return true;
+  mapper_.interrupt_ba();
+  return mapper_.queued() < static_cast<std::size_t>(mapper_.params().max_queued);
+}
+
+void Tracker::create_new_keyframe(data::Frame& frame) {
+  map::KeyFrame* kf = map_.create_keyframe(frame);
+  reference_kf_ = kf;
+  // New map points from depth: all close keypoints without a point, and the nearest far ones
+  // until at least keyframe_close_points are covered (ORB-SLAM2's RGB-D CreateNewKeyFrame).
+  std::vector<std::pair<float, std::size_t>> by_depth;
+  for (std::size_t i = 0; i < frame.size(); ++i)
+    if (frame.depth(i) > 0.0f) by_depth.emplace_back(frame.depth(i), i);
+  std::sort(by_depth.begin(), by_depth.end());
+  const double close = frame.camera().close_depth_threshold();
+  int covered = 0;
+  for (const auto& [d, i] : by_depth) {
+    map::MapPoint* mp = frame.map_points[i];
+    if (mp == nullptr || mp->num_observations() < 1) {
+      const auto x = frame.unproject_world(i);
+      map::MapPoint* created = map_.create_map_point(*x, kf, frame.id());
+      created->add_observation(kf, i);
+      kf->add_map_point(created, i);
+      created->compute_distinctive_descriptor();
+      created->update_normal_and_depth();
+      frame.map_points[i] = created;
+      frame.outliers[i] = false;
+    }
+    ++covered;
+    if (d > close && covered > params_.keyframe_close_points) break;
+  }
+  mapper_.insert_keyframe(kf);
+  last_keyframe_frame_id_ = frame.id();
+}
+
+}  // namespace lrd::tracking
