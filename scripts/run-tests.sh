@@ -11,3 +11,4 @@ cmake --build --preset asan -j "$(nproc)"
 cmake --preset release
 cmake --build --preset release -j "$(nproc)"
 ctest --preset asan
+bash scripts/check-install.sh

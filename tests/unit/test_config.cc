@@ -7,6 +7,8 @@
 #include <string>
 
 #include "lrd/config/config.h"
+#include "lrd/mapping/local_mapper.h"
+#include "lrd/tracking/tracker.h"
 #include "lrd/util/error.h"
 #include "temp_dir.h"
 
@@ -197,4 +199,42 @@ TEST_F(ConfigTest, LaterModuleSectionKeptForItsReader) {
   lrd::config::NodeReader mapping = cfg.mapping;
   EXPECT_EQ(mapping.get("local_window", 10), 10);
   EXPECT_NO_THROW(mapping.finish());
+}
+
+// The shipped default.yaml documents the tracking and mapping keys with the code's defaults.
+TEST_F(ConfigTest, ShippedDefaultTrackingAndMappingSectionsMatchCodeDefaults) {
+  const auto cfg = load_config(fs::path(LRD_SOURCE_DIR) / "config" / "default.yaml");
+  const auto t = lrd::tracking::TrackerParams::from_config(cfg.tracking);
+  const lrd::tracking::TrackerParams td;
+  EXPECT_EQ(t.init_min_features, td.init_min_features);
+  EXPECT_FLOAT_EQ(t.motion_model_radius, td.motion_model_radius);
+  EXPECT_EQ(t.min_local_map_inliers, td.min_local_map_inliers);
+  EXPECT_EQ(t.max_local_keyframes, td.max_local_keyframes);
+  EXPECT_DOUBLE_EQ(t.reference_ratio, td.reference_ratio);
+  EXPECT_EQ(t.keyframe_close_points, td.keyframe_close_points);
+  const auto m = lrd::mapping::LocalMapperParams::from_config(cfg.mapping);
+  const lrd::mapping::LocalMapperParams md;
+  EXPECT_EQ(m.triangulation_neighbours, md.triangulation_neighbours);
+  EXPECT_EQ(m.local_ba, md.local_ba);
+  EXPECT_EQ(m.ba.first_iterations, md.ba.first_iterations);
+  EXPECT_EQ(m.ba.second_iterations, md.ba.second_iterations);
+  EXPECT_DOUBLE_EQ(m.redundant_ratio, md.redundant_ratio);
+  EXPECT_EQ(m.max_queued, md.max_queued);
+}
+
+TEST_F(ConfigTest, TrackingAndMappingKeysAreChecked) {
+  const auto cfg = load_config(write("t.yaml", "tracking:\n  min_local_map_inlier: 40\nmapping:\n  redundant_ratio: 1.5\n"));
+  try {
+    (void)lrd::tracking::TrackerParams::from_config(cfg.tracking);
+    FAIL() << "typo accepted";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "t.yaml:2")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "min_local_map_inliers")) << e.what();
+  }
+  try {
+    (void)lrd::mapping::LocalMapperParams::from_config(cfg.mapping);
+    FAIL() << "out-of-range value accepted";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "mapping.redundant_ratio")) << e.what();
+  }
 }

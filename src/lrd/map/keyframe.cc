@@ -13,6 +13,8 @@ constexpr int kCovisibilityThreshold = 15;  // ORB-SLAM2: an edge needs 15 share
 
 KeyFrame::KeyFrame(std::uint64_t id, const data::Frame& frame, Map* map)
     : id_(id), frame_(frame), T_cw_(frame.T_cw()), points_(frame.map_points), map_(map) {
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    if (frame.outliers[i]) points_[i] = nullptr;
   // Matches the last pose optimization called outliers stay (as ORB-SLAM2): local BA, with more
   // views, decides on them. The keyframe's own copy of the frame does not track anything.
   frame_.map_points.clear();

@@ -276,7 +276,8 @@ void LocalMapper::search_in_neighbours(map::KeyFrame* kf) {
     }
   }
   // The new keyframe's points into the neighbours ...
-  for (map::KeyFrame* t : targets) matcher_.fuse(*t, kf->map_points());
+  int fused_out = 0;
+  for (map::KeyFrame* t : targets) fused_out += matcher_.fuse(*t, kf->map_points());
   // ... and the neighbours' points into the new keyframe.
   std::vector<map::MapPoint*> candidates;
   for (map::KeyFrame* t : targets) {
@@ -286,7 +287,9 @@ void LocalMapper::search_in_neighbours(map::KeyFrame* kf) {
       candidates.push_back(mp);
     }
   }
-  matcher_.fuse(*kf, candidates);
+  const int fused_in = matcher_.fuse(*kf, candidates);
+  spdlog::debug("keyframe {}: fused {} points into {} neighbours, {} of {} candidates into it", kf->id(), fused_out,
+                targets.size(), fused_in, candidates.size());
   for (map::MapPoint* mp : kf->map_points()) {
     if (mp == nullptr || mp->is_bad()) continue;
     mp->compute_distinctive_descriptor();

@@ -368,6 +368,8 @@ bool Tracker::need_new_keyframe(const data::Frame& frame) const {
       frame.id() >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(params_.min_frames_between_keyframes) && idle;
   const bool c1c = inliers_ < ref_matches * 0.25 || need_close;
   const bool c2 = (inliers_ < ref_matches * ratio || need_close) && inliers_ > 15;
+  spdlog::debug("frame {}: keyframe? inliers {} ref {} (kf {}) close {}/{} idle {} c1 {}{}{} c2 {}", frame.id(), inliers_,
+                ref_matches, reference_kf_->id(), tracked_close, untracked_close, idle, c1a, c1b, c1c, c2);
   if (!((c1a || c1b || c1c) && c2)) return false;
   if (idle) return true;
   mapper_.interrupt_ba();

@@ -1,0 +1,76 @@
+"""`lrdslam run` end to end: outputs, accuracy on a static synthetic sequence, byte-identical
+deterministic runs, and one-line errors for bad input."""
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+BIN = os.environ.get("LRDSLAM_BIN", "build/release/bin/lrdslam")
+FRAMES = 90
+
+
+def lrdslam(*args, check=True):
+    r = subprocess.run([BIN, *map(str, args)], capture_output=True, text=True)
+    if check and r.returncode != 0:
+        raise AssertionError(f"lrdslam {' '.join(map(str, args))} failed:\n{r.stdout}\n{r.stderr}")
+    return r
+
+
+@pytest.fixture(scope="module")
+def sequence(tmp_path_factory):
+    d = tmp_path_factory.mktemp("seq") / "static_xyz"
+    lrdslam("synth", "--preset", "static_xyz", "--frames", FRAMES, "--out", d)
+    return d
+
+
+def test_run_writes_outputs_and_is_accurate(sequence, tmp_path):
+    out = tmp_path / "out"
+    r = lrdslam("run", "--sequence", sequence, "--out", out, "--quiet")
+    assert "ATE RMSE" in r.stdout
+    for name in ["CameraTrajectory.txt", "KeyFrameTrajectory.txt", "track_times.txt", "summary.json"]:
+        assert (out / name).is_file(), name
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["frames"] == FRAMES
+    assert summary["lost"] == 0
+    assert summary["ate"]["rmse"] < 0.01
+    assert summary["keyframes"] >= 1 and summary["map_points"] > 100
+    rows = [l.split() for l in (out / "track_times.txt").read_text().splitlines() if not l.startswith("#")]
+    assert len(rows) == FRAMES
+    assert all(len(row) == 9 and row[7] == "ok" for row in rows)
+    poses = [l for l in (out / "CameraTrajectory.txt").read_text().splitlines() if not l.startswith("#")]
+    assert len(poses) == FRAMES
+
+
+def test_deterministic_runs_are_byte_identical(sequence, tmp_path):
+    outs = []
+    for k in range(2):
+        out = tmp_path / f"run{k}"
+        lrdslam("run", "--sequence", sequence, "--out", out, "--deterministic", "--quiet")
+        outs.append(out)
+    for name in ["CameraTrajectory.txt", "KeyFrameTrajectory.txt"]:
+        assert (outs[0] / name).read_bytes() == (outs[1] / name).read_bytes(), name
+
+
+@pytest.mark.parametrize(
+    "args, expected",
+    [
+        (["--sequence", "/nonexistent/seq"], "/nonexistent/seq"),
+        (["--preset", "tum9"], "tum9"),
+    ],
+)
+def test_bad_input_gives_one_line_error(sequence, tmp_path, args, expected):
+    full = ["run", "--out", tmp_path / "o", "--quiet"]
+    if "--sequence" not in args:
+        full += ["--sequence", sequence]
+    r = lrdslam(*full, *args, check=False)
+    assert r.returncode != 0
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error:") and expected in lines[0], r.stderr
+
+
+def test_settings_and_preset_exclude_each_other(sequence, tmp_path):
+    r = lrdslam("run", "--sequence", sequence, "--out", tmp_path / "o", "--settings",
+                sequence / "settings.yaml", "--preset", "tum1", check=False)
+    assert r.returncode != 0
