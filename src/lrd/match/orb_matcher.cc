@@ -92,7 +92,7 @@ int OrbMatcher::search_by_projection(data::Frame& current, const std::vector<map
     std::size_t best_idx = 0;
     for (const std::size_t j : cands) {
       if (already_matched(current, j)) continue;
-      if (current.u_right(j) > 0.0f && std::abs(mp->track.proj_xr - current.u_right(j)) > radius * scale) continue;
+      if (current.u_right(j) > 0.0f && std::abs(mp->track.proj_xr - current.u_right(j)) > radius) continue;
       const int d = descriptor_distance(mp->descriptor(), current.descriptors().row(static_cast<int>(j)));
       const int lvl = current.undistorted()[j].octave;
       if (d < best) {

@@ -9,7 +9,6 @@
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
-#include <regex>
 
 #include "lrd/config/orbslam_settings.h"
 #include "lrd/eval/ate.h"
@@ -44,12 +43,13 @@ config::Config resolve_config(const RunOptions& o, std::string* source) {
     from = "settings " + (o.sequence / "settings.yaml").string();
   } else {
     // TUM folder names carry the sensor: rgbd_dataset_freiburg3_walking_xyz.
-    static const std::regex freiburg("freiburg([123])");
-    std::smatch m;
-    const std::string name = fs::absolute(o.sequence).lexically_normal().filename().string();
-    if (std::regex_search(name, m, freiburg)) {
-      cfg.camera = camera::camera_preset("tum" + m[1].str());
-      from = "preset tum" + m[1].str() + " (from the folder name)";
+    std::string name = fs::absolute(o.sequence).lexically_normal().filename().string();
+    if (name.empty()) name = fs::absolute(o.sequence).lexically_normal().parent_path().filename().string();
+    const std::size_t at = name.find("freiburg");
+    const char sensor = at != std::string::npos && at + 8 < name.size() ? name[at + 8] : '\0';
+    if (sensor >= '1' && sensor <= '3') {
+      cfg.camera = camera::camera_preset(std::string("tum") + sensor);
+      from = std::string("preset tum") + sensor + " (from the folder name)";
     } else {
       from = "preset tum3 (default)";
     }
