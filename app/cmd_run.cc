@@ -13,7 +13,7 @@ namespace lrd::app {
 namespace {
 
 struct RunCli {
-  std::string sequence, settings, preset, config, out;
+  std::string sequence, settings, preset, config, out, mode, segmenter;
   bool deterministic = false;
   bool quiet = false;
   std::size_t max_frames = 0;
@@ -25,11 +25,23 @@ void print_report(const runner::RunOptions& o, const runner::RunReport& r) {
               r.not_initialized);
   std::printf("map: %zu keyframes (%zu culled), %zu map points, %zu local BAs\n", r.map.keyframes,
               r.map.culled_keyframes, r.map.map_points, r.map.bundle_adjustments);
+  std::printf("mode: %s  segmentation: %s\n", r.mode.c_str(), r.segmentation.c_str());
   std::printf("time per frame (ms, without decoding): median %.1f  mean %.1f\n", r.total.median_ms, r.total.mean_ms);
   std::printf("  extraction %.1f / %.1f  tracking %.1f / %.1f  waiting %.1f / %.1f  mapping %.1f / %.1f "
               "(median / mean)\n",
               r.extraction.median_ms, r.extraction.mean_ms, r.tracking.median_ms, r.tracking.mean_ms,
               r.waiting.median_ms, r.waiting.mean_ms, r.mapping.median_ms, r.mapping.mean_ms);
+  if (r.segmentation != "none" || r.mode == "geometric")
+    std::printf("  segmentation %.1f (own thread)  mask wait %.1f  geometry check %.1f (median); mean mask age %.2f "
+                "frames, %zu frames without a mask\n",
+                r.segmentation_time.median_ms, r.mask_wait.median_ms, r.geometry.median_ms, r.mean_mask_age,
+                r.frames_without_mask);
+  if (r.flags)
+    std::printf("dynamic keypoint flags vs ground-truth masks (%zu frames): precision %.3f  recall %.3f%s\n",
+                r.flags->frames, r.flags->precision(), r.flags->recall(),
+                r.flags->moved_object > 0
+                    ? fmt::format("  (moved objects: {:.3f})", r.flags->moved_object_recall()).c_str()
+                    : "");
   std::printf("throughput with I/O: %.1f frames/s (decoding %.1f s on its own thread, %.1f s waited for)\n",
               r.wall_seconds > 0 ? static_cast<double>(r.frames) / r.wall_seconds : 0.0, r.decode_seconds,
               r.io_wait_seconds);
@@ -55,6 +67,13 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--out", cli->out, "Output folder")->required();
   cmd->add_flag("--deterministic", cli->deterministic,
                 "Local mapping in lock-step after each keyframe: identical input gives identical bytes");
+  cmd->add_option("--mode", cli->mode,
+                  "Dynamic-scene mode: static (ORB-SLAM2), semantic (LRD-SLAM P), geometric, full (LRD-SLAM C); "
+                  "default: the config's dynamic.mode")
+      ->check(CLI::IsMember({"static", "semantic", "geometric", "full"}));
+  cmd->add_option("--segmenter", cli->segmenter,
+                  "Segmentation preset: none, gt-masks (synthetic ground truth, people), gt-masks-all, fnet; "
+                  "default: the config's segmentation section");
   cmd->add_option("--max-frames", cli->max_frames, "Stop after this many frames (0: all)");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->callback([cli] {
@@ -66,6 +85,8 @@ void register_run_command(CLI::App& app) {
     o.out = cli->out;
     o.deterministic = cli->deterministic;
     o.max_frames = cli->max_frames;
+    if (!cli->mode.empty()) o.mode = cli->mode;
+    if (!cli->segmenter.empty()) o.segmenter = cli->segmenter;
     o.progress = !cli->quiet;
     const runner::RunReport r = runner::run_sequence(o);
     print_report(o, r);

@@ -3,16 +3,23 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <deque>
 #include <limits>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
+#include <spdlog/spdlog.h>
 
 #include "lrd/data/frame.h"
+#include "lrd/dynamic/dynamic_point_filter.h"
+#include "lrd/dynamic/mask_propagator.h"
 #include "lrd/features/keypoint_undistorter.h"
 #include "lrd/features/orb_extractor.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
 #include "lrd/mapping/local_mapper.h"
+#include "lrd/segmentation/mask_folder_segmenter.h"
+#include "lrd/segmentation/onnx_segmenter.h"
+#include "lrd/segmentation/segmentation_worker.h"
 #include "lrd/tracking/tracker.h"
 #include "lrd/util/error.h"
 
@@ -25,24 +32,107 @@ double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::d
 std::string describe(const cv::Mat& m) {
   return fmt::format("{}x{} {}", m.cols, m.rows, cv::typeToString(m.type()));
 }
+
+
+std::unique_ptr<segmentation::Segmenter> make_segmenter(const segmentation::SegmentationParams& p) {
+  switch (p.backend) {
+    case segmentation::Backend::Onnx: return std::make_unique<segmentation::OnnxSegmenter>(p.onnx);
+    case segmentation::Backend::Masks: return std::make_unique<segmentation::MaskFolderSegmenter>(p.masks);
+    case segmentation::Backend::None: break;
+  }
+  return nullptr;
+}
+
+// A recent frame's depth and pose, to carry an older mask over to the current frame.
+struct RecentFrame {
+  std::uint64_t id = 0;
+  cv::Mat depth;
+  std::optional<Eigen::Isometry3d> T_cw;
+};
+constexpr std::size_t kRecentFrames = 30;
 }  // namespace
 
 struct System::Impl {
   Impl(const config::Config& cfg, SystemOptions opts)
       : config(cfg),
         options(opts),
+        dynamic_params(dynamic::DynamicParams::from_config(cfg.dynamic)),
+        segmentation_params(opts.segmentation ? *opts.segmentation
+                                              : segmentation::SegmentationParams::from_config(
+                                                    cfg.segmentation, cfg.file.empty() ? std::filesystem::path{}
+                                                                                       : cfg.file.parent_path())),
         extractor(cfg.features),
         undistorter(cfg.camera),
         mapper(map, mapping::LocalMapperParams::from_config(cfg.mapping), !opts.deterministic),
-        tracker(map, mapper, tracking::TrackerParams::from_config(cfg.tracking)) {}
+        tracker(map, mapper, tracking::TrackerParams::from_config(cfg.tracking)),
+        filter(dynamic_params.geometry) {
+    if (opts.mode) dynamic_params.mode = *opts.mode;
+    if (opts.deterministic) segmentation_params.schedule = segmentation::Schedule::Sync;
+    const dynamic::DynamicMode mode = dynamic_params.mode;
+    if (dynamic::uses_segmentation(mode)) {
+      if (segmentation_params.backend == segmentation::Backend::None)
+        throw Error("mode '" + dynamic::to_string(mode) +
+                    "' needs a segmentation backend (segmentation.backend: onnx or masks; or --segmenter)");
+      worker = std::make_unique<segmentation::SegmentationWorker>(make_segmenter(segmentation_params),
+                                                                  segmentation_params.schedule, cfg.camera.rgb_order);
+    }
+    if (dynamic::uses_geometry(mode)) {
+      tracker.set_dynamic_check([this](data::Frame& f, const std::vector<map::KeyFrame*>& nearby) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const dynamic::GeometryCheckResult r = filter.check(f, current_depth, nearby);
+        if (r.flagged_keypoints > 0) f.remove_keypoints(r.dynamic);
+        if (!r.mask.empty()) {
+          if (f.dynamic_mask.empty()) f.dynamic_mask = r.mask;
+          else cv::bitwise_or(f.dynamic_mask, r.mask, f.dynamic_mask);  // a new buffer: the old one is shared
+        }
+        last_check = r;
+        geometry_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      });
+    }
+  }
+
+  // The dilated mask for frame `id` from the segmentation thread (sync: its own; async: the
+  // newest within the wait bound, carried over from its frame). Empty when none is ready.
+  cv::Mat semantic_mask(std::uint64_t id, DynamicInfo& info, double& segmentation_seconds) {
+    const bool sync = segmentation_params.schedule == segmentation::Schedule::Sync;
+    const auto result =
+        worker->wait(id, sync ? std::nullopt : std::optional<double>(segmentation_params.max_wait_ms / 1000.0));
+    if (!result) return {};
+    cv::Mat mask = result->mask;
+    const auto age = static_cast<int>(id - result->frame_id);
+    info.mask_frame = static_cast<std::int64_t>(result->frame_id);
+    info.mask_age = age;
+    segmentation_seconds = result->seconds;
+    int dilation = segmentation_params.dilation_px;
+    if (age > 0) {
+      const auto predicted = tracker.predicted_pose();
+      const auto it = std::find_if(recent.begin(), recent.end(), [&](const RecentFrame& r) { return r.id == result->frame_id; });
+      if (predicted && it != recent.end() && it->T_cw)
+        mask = dynamic::propagate_mask(mask, it->depth, *predicted * it->T_cw->inverse(), config.camera);
+      dilation += std::min(segmentation_params.max_age_dilation_px,
+                           static_cast<int>(std::lround(age * segmentation_params.age_dilation_px)));
+    } else {
+      mask = mask.clone();  // dilated in place below; the worker's copy stays as it was
+    }
+    dynamic::dilate_mask(mask, dilation);
+    return mask;
+  }
 
   config::Config config;
   SystemOptions options;
+  dynamic::DynamicParams dynamic_params;
+  segmentation::SegmentationParams segmentation_params;
   features::OrbExtractor extractor;
   features::KeypointUndistorter undistorter;
   map::Map map;
   mapping::LocalMapper mapper;
   tracking::Tracker tracker;
+  dynamic::DynamicPointFilter filter;
+  std::unique_ptr<segmentation::SegmentationWorker> worker;
+  std::deque<RecentFrame> recent;
+  cv::Mat current_depth;  // the frame being tracked, for the geometry check
+  dynamic::GeometryCheckResult last_check;
+  double geometry_seconds = 0.0;
   std::uint64_t next_frame_id = 0;
   double last_timestamp = -std::numeric_limits<double>::infinity();
   bool shut_down = false;
@@ -55,11 +145,19 @@ System::~System() { shutdown(); }
 
 void System::shutdown() {
   if (impl_->shut_down) return;
+  if (impl_->worker) impl_->worker->shutdown();
   impl_->mapper.shutdown();
   impl_->shut_down = true;
 }
 
 const config::Config& System::config() const { return impl_->config; }
+
+dynamic::DynamicMode System::mode() const { return impl_->dynamic_params.mode; }
+
+std::string System::segmentation_description() const {
+  if (!impl_->worker) return "none";
+  return impl_->worker->segmenter().describe() + ", " + segmentation::to_string(impl_->worker->schedule());
+}
 
 TrackingState System::state() const {
   std::lock_guard lock(impl_->map.mutex());
@@ -87,26 +185,57 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
 
   TrackResult result;
   const auto t0 = Clock::now();
+  const std::uint64_t id = s.next_frame_id++;
+  // The network starts on this frame now and runs while the features are found (Fig. 1).
+  // A copy: the caller may reuse its buffer while the network still reads this one.
+  if (s.worker) s.worker->submit(id, timestamp, rgb.clone());
   cv::Mat grey;
   if (rgb.channels() == 3) cv::cvtColor(rgb, grey, cam.rgb_order ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
   else grey = rgb;
   cv::Mat depth_m;
   if (depth.type() == CV_16UC1) depth.convertTo(depth_m, CV_32F, 1.0 / cam.depth_map_factor);
   else depth_m = depth;
-  data::Frame frame(s.next_frame_id++, timestamp, grey, depth_m, mask, s.extractor, s.undistorter, cam);
+  cv::Mat dynamic_mask = mask;
+  auto extraction = data::Frame::Extraction::Full;
+  if (s.worker) {
+    s.extractor.detect(grey);
+    const auto w0 = Clock::now();
+    cv::Mat semantic = s.semantic_mask(id, result.dynamic, result.timing.segmentation);
+    if (!semantic.empty()) {
+      if (dynamic_mask.empty()) dynamic_mask = semantic;
+      else cv::bitwise_or(mask, semantic, dynamic_mask);
+    }
+    result.timing.mask_wait = seconds(w0, Clock::now());
+    extraction = data::Frame::Extraction::DescribeDetected;
+  }
+  data::Frame frame(id, timestamp, grey, depth_m, dynamic_mask, s.extractor, s.undistorter, cam, extraction);
   const auto t1 = Clock::now();
   double wait = 0.0;
+  s.current_depth = depth_m;
+  s.last_check = {};
+  s.geometry_seconds = 0.0;
   result.state = s.tracker.track(frame, &wait);
   const auto t2 = Clock::now();
   if (s.options.deterministic) s.mapper.process_queued();
   const auto t3 = Clock::now();
 
-  result.timing.extraction = seconds(t0, t1);
+  result.timing.extraction = seconds(t0, t1) - result.timing.mask_wait;
   result.timing.waiting = wait;
-  result.timing.tracking = seconds(t1, t2) - wait;
+  result.timing.geometry = s.geometry_seconds;
+  result.timing.tracking = seconds(t1, t2) - wait - s.geometry_seconds;
   result.timing.mapping = seconds(t2, t3);
   result.inliers = s.tracker.records().back().inliers;
+  result.dynamic.geometric_keypoints = s.last_check.flagged_keypoints;
+  result.dynamic.geometric_seeds = s.last_check.seeds;
+  result.dynamic.keypoints = static_cast<int>(frame.size());
+  result.dynamic.mask = frame.dynamic_mask;
   if (result.state == TrackingState::Ok) result.T_wc = frame.T_wc();
+  if (s.worker) {
+    s.recent.push_back({id, depth_m, frame.has_pose() && result.state == TrackingState::Ok
+                                         ? std::optional<Eigen::Isometry3d>(frame.T_cw())
+                                         : std::nullopt});
+    if (s.recent.size() > kRecentFrames) s.recent.pop_front();
+  }
   return result;
 }
 

@@ -9,13 +9,16 @@
 //   slam.shutdown();
 //   slam.save_trajectory_tum("CameraTrajectory.txt");
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <opencv2/core.hpp>
 
 #include "lrd/config/config.h"
+#include "lrd/dynamic/dynamic_params.h"
 #include "lrd/io/trajectory.h"
+#include "lrd/segmentation/segmentation_params.h"
 #include "lrd/tracking/tracking_state.h"
 
 namespace lrd {
@@ -25,16 +28,34 @@ using tracking::TrackingState;
 struct SystemOptions {
   // Local mapping in lock-step after each keyframe, in the tracking thread: two runs over the same
   // input give bit-identical trajectories (slower: tracking waits for mapping).
+  // Forces the segmentation schedule to sync (the async one depends on thread timing).
   bool deterministic = false;
+  // Replace what the config's `dynamic` / `segmentation` sections say (the CLI's --mode and
+  // --segmenter).
+  std::optional<dynamic::DynamicMode> mode;
+  std::optional<segmentation::SegmentationParams> segmentation;
 };
 
 // Where the time of one frame went, in seconds.
 struct FrameTiming {
-  double extraction = 0.0;  // colour conversion, ORB extraction, undistortion, grid
-  double tracking = 0.0;    // pose estimation, local map, keyframe decision
-  double waiting = 0.0;     // waiting for local mapping to release the map
-  double mapping = 0.0;     // lock-step local mapping (deterministic mode only)
-  [[nodiscard]] double total() const { return extraction + tracking + waiting + mapping; }
+  double extraction = 0.0;    // colour conversion, ORB extraction, undistortion, grid
+  double segmentation = 0.0;  // the network on the mask used (its own thread: not in total())
+  double mask_wait = 0.0;     // tracking waiting for the mask, and carrying an older one over
+  double geometry = 0.0;      // multi-view geometry check and region growing
+  double tracking = 0.0;      // pose estimation, local map, keyframe decision
+  double waiting = 0.0;       // waiting for local mapping to release the map
+  double mapping = 0.0;       // lock-step local mapping (deterministic mode only)
+  [[nodiscard]] double total() const { return extraction + mask_wait + geometry + tracking + waiting + mapping; }
+};
+
+// What the dynamic-scene stages did with one frame.
+struct DynamicInfo {
+  std::int64_t mask_frame = -1;  // frame index of the segmentation mask used (-1: none)
+  int mask_age = -1;             // frames between that mask and this frame (-1: none)
+  int geometric_keypoints = 0;   // keypoints the geometry check removed
+  int geometric_seeds = 0;       // projected points it found moving
+  int keypoints = 0;             // keypoints left for tracking
+  cv::Mat mask;                  // the frame's dynamic pixels (CV_8UC1 nonzero; empty: none)
 };
 
 struct TrackResult {
@@ -42,6 +63,7 @@ struct TrackResult {
   std::optional<Eigen::Isometry3d> T_wc;  // camera-to-world, when tracking is OK
   FrameTiming timing;
   int inliers = 0;  // map points matched and kept by the pose optimization
+  DynamicInfo dynamic;
 };
 
 struct MapStats {
@@ -78,6 +100,9 @@ class System {
   [[nodiscard]] MapStats map_stats() const;
   [[nodiscard]] TrackingState state() const;
   [[nodiscard]] const config::Config& config() const;
+  [[nodiscard]] dynamic::DynamicMode mode() const;
+  // "masks (seq/mask), async" or "none".
+  [[nodiscard]] std::string segmentation_description() const;
 
  private:
   struct Impl;

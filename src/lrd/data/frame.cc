@@ -9,12 +9,14 @@ namespace lrd::data {
 
 Frame::Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::Mat& depth, const cv::Mat& mask,
              features::OrbExtractor& extractor, const features::KeypointUndistorter& undistorter,
-             const camera::PinholeCamera& camera)
+             const camera::PinholeCamera& camera, Extraction extraction)
     : id_(id), timestamp_(timestamp), camera_(camera), close_depth_(static_cast<float>(camera.close_depth_threshold())) {
   if (grey.type() != CV_8UC1) throw Error("frame: expected an 8-bit grey image");
   if (depth.type() != CV_32FC1 || depth.size() != grey.size())
     throw Error("frame: expected a CV_32FC1 depth image of the grey image's size");
-  extractor.extract(grey, mask, keypoints_, descriptors_);
+  if (extraction == Extraction::Full) extractor.extract(grey, mask, keypoints_, descriptors_);
+  else extractor.describe_detected(mask, keypoints_, descriptors_);
+  dynamic_mask = mask;
   undistorted_ = undistorter.undistort(keypoints_);
   level_sigma2_ = extractor.level_sigma2();
   inv_level_sigma2_ = extractor.inv_level_sigma2();
@@ -41,6 +43,38 @@ Frame::Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::
   bounds_ = undistorter.undistorted_bounds();
   cell_w_inv_ = static_cast<float>(kGridCols) / bounds_.width;
   cell_h_inv_ = static_cast<float>(kGridRows) / bounds_.height;
+  build_grid();
+}
+
+void Frame::remove_keypoints(const std::vector<bool>& drop) {
+  const std::size_t n = keypoints_.size();
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (drop[i]) continue;
+    if (kept != i) {
+      keypoints_[kept] = keypoints_[i];
+      undistorted_[kept] = undistorted_[i];
+      descriptors_.row(static_cast<int>(i)).copyTo(descriptors_.row(static_cast<int>(kept)));
+      depth_[kept] = depth_[i];
+      u_right_[kept] = u_right_[i];
+      map_points[kept] = map_points[i];
+      outliers[kept] = outliers[i];
+    }
+    ++kept;
+  }
+  if (kept == n) return;
+  keypoints_.resize(kept);
+  undistorted_.resize(kept);
+  descriptors_ = descriptors_.rowRange(0, static_cast<int>(kept)).clone();
+  depth_.resize(kept);
+  u_right_.resize(kept);
+  map_points.resize(kept);
+  outliers.resize(kept);
+  build_grid();
+}
+
+void Frame::build_grid() {
+  const std::size_t n = keypoints_.size();
   grid_.assign(static_cast<std::size_t>(kGridCols * kGridRows), {});
   for (std::size_t i = 0; i < n; ++i) {
     int c, r;

@@ -25,11 +25,20 @@ class Frame {
   static constexpr int kGridCols = 64;
   static constexpr int kGridRows = 48;
 
+  enum class Extraction {
+    Full,              // the extractor runs on `grey` now
+    DescribeDetected,  // extractor.detect(grey) already ran; only the description is left
+  };
+
   // `grey` CV_8UC1; `depth` CV_32FC1 metres (0 = invalid), registered to `grey`; `mask` CV_8UC1
   // (nonzero = dynamic, no features there) or empty.
   Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::Mat& depth, const cv::Mat& mask,
         features::OrbExtractor& extractor, const features::KeypointUndistorter& undistorter,
-        const camera::PinholeCamera& camera);
+        const camera::PinholeCamera& camera, Extraction extraction = Extraction::Full);
+
+  // Removes the keypoints with drop[i] set (dynamic ones found after extraction, paper
+  // Algorithm 1), with their descriptors, depths and matches; the grid is rebuilt.
+  void remove_keypoints(const std::vector<bool>& drop);
 
   [[nodiscard]] std::uint64_t id() const { return id_; }
   [[nodiscard]] double timestamp() const { return timestamp_; }
@@ -62,6 +71,9 @@ class Frame {
   // the last pose optimization rejected that match.
   std::vector<map::MapPoint*> map_points;
   std::vector<bool> outliers;
+  // Pixels judged dynamic (CV_8UC1, nonzero; empty: none): the segmentation mask and the
+  // geometric check's regions. Kept with keyframes for mapping, loop closing and the dense map.
+  cv::Mat dynamic_mask;
 
   void set_pose(const Eigen::Isometry3d& T_cw) { T_cw_ = geometry::orthonormalized(T_cw); }
   [[nodiscard]] bool has_pose() const { return T_cw_.has_value(); }
@@ -72,6 +84,7 @@ class Frame {
 
  private:
   [[nodiscard]] bool grid_cell(const cv::Point2f& p, int& col, int& row) const;
+  void build_grid();
 
   std::uint64_t id_;
   double timestamp_;

@@ -168,17 +168,48 @@ void OrbExtractor::describe(const cv::Mat& smoothed, const cv::KeyPoint& kp, std
   }
 }
 
-void OrbExtractor::extract(const cv::Mat& grey, const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints,
-                           cv::Mat& descriptors) {
+void OrbExtractor::check_input(const cv::Mat& grey, const cv::Mat& mask) const {
   if (grey.empty() || grey.type() != CV_8UC1)
     throw Error("ORB extractor: the image must be a non-empty CV_8UC1");
   if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != grey.size())) {
     throw Error("ORB extractor: the mask must be CV_8UC1 of the image's size");
   }
-  pyramid_.build(grey);
-  const int n = levels();
-  tbb::parallel_for(0, n, [&](int level) { detect(level, mask, work_[level]); });
+}
 
+void OrbExtractor::extract(const cv::Mat& grey, const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints,
+                           cv::Mat& descriptors) {
+  check_input(grey, mask);
+  pyramid_.build(grey);
+  tbb::parallel_for(0, levels(), [&](int level) { detect(level, mask, work_[level]); });
+  finish(cv::Mat(), keypoints, descriptors);
+}
+
+void OrbExtractor::detect(const cv::Mat& grey) {
+  check_input(grey, cv::Mat());
+  pyramid_.build(grey);
+  tbb::parallel_for(0, levels(), [&](int level) { detect(level, cv::Mat(), work_[level]); });
+}
+
+void OrbExtractor::describe_detected(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints,
+                                     cv::Mat& descriptors) {
+  if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != pyramid_.level(0).size()))
+    throw Error("ORB extractor: the mask must be CV_8UC1 of the image's size");
+  finish(mask, keypoints, descriptors);
+}
+
+void OrbExtractor::finish(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
+  const int n = levels();
+  if (!mask.empty()) {
+    for (int level = 0; level < n; ++level) {
+      auto& corners = work_[level].corners;
+      std::erase_if(corners, [&](const cv::KeyPoint& kp) {
+        const cv::Point2f p = pyramid_.to_base(level, kp.pt.x, kp.pt.y);
+        const int mx = std::clamp(cvRound(p.x), 0, mask.cols - 1);
+        const int my = std::clamp(cvRound(p.y), 0, mask.rows - 1);
+        return mask.at<std::uint8_t>(my, mx) != 0;
+      });
+    }
+  }
   // Coarse to fine: what a level cannot fill passes to the next finer one, which has more corners,
   // so low-texture images still get close to n_features.
   int carry = 0;

@@ -29,6 +29,14 @@ class OrbExtractor {
   void extract(const cv::Mat& grey, const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints,
                cv::Mat& descriptors);
 
+  // The same in two phases, for a mask that arrives while corners are being found (the
+  // segmentation thread runs meanwhile): detect() builds the pyramid and finds the FAST corners
+  // of the whole image; describe_detected() drops those under `mask`, spreads the rest and
+  // describes them. The result equals extract()'s except in grid cells whose strong corners are
+  // all masked, which then get no low-threshold fallback.
+  void detect(const cv::Mat& grey);
+  void describe_detected(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
+
   [[nodiscard]] const OrbParams& params() const { return params_; }
   [[nodiscard]] int levels() const { return params_.n_levels; }
   // Per level: scale_factor^i, its inverse, its square (the variance of a keypoint's position at
@@ -62,6 +70,9 @@ class OrbExtractor {
   // Unmasked FAST corners of one level (level coordinates, response = score): those scoring
   // ini_th_fast, and in cells without any, those scoring min_th_fast.
   void detect(int level, const cv::Mat& mask, LevelWork& work) const;
+  void check_input(const cv::Mat& grey, const cv::Mat& mask) const;
+  // Quadtree distribution, orientation and description of the detected corners not under `mask`.
+  void finish(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
   // Intensity-centroid orientation (Rosin 1999; Rublee et al. 2011, sec. 3.2).
   void orient(const cv::Mat& image, cv::KeyPoint& kp) const;
   // Steered BRIEF on the smoothed level image, one 32-byte row.

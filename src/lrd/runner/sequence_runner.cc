@@ -8,11 +8,13 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "lrd/config/orbslam_settings.h"
 #include "lrd/eval/ate.h"
 #include "lrd/eval/rpe.h"
+#include "lrd/features/orb_extractor.h"
 #include "lrd/io/frame_prefetcher.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/io/tum_sequence.h"
@@ -58,6 +60,46 @@ config::Config resolve_config(const RunOptions& o, std::string* source) {
   return cfg;
 }
 
+segmentation::SegmentationParams segmenter_preset(const std::string& name, const fs::path& sequence,
+                                                 segmentation::SegmentationParams p) {
+  using segmentation::Backend;
+  if (name == "none") {
+    p.backend = Backend::None;
+  } else if (name == "gt-masks" || name == "gt-masks-all") {
+    p.backend = Backend::Masks;
+    p.masks.folder = sequence / "mask";
+    // Synthetic mask values: 1 person, 2 moved object (sequence.json "mask_values").
+    p.masks.dynamic_values = name == "gt-masks" ? std::vector<int>{1} : std::vector<int>{1, 2};
+  } else if (name == "fnet") {
+    p.backend = Backend::Onnx;
+    p.onnx = segmentation::OnnxParams{};
+    p.onnx.model = "models/fnet-lite.onnx";
+#ifdef LRD_SOURCE_DIR
+    if (!fs::exists(p.onnx.model)) p.onnx.model = fs::path(LRD_SOURCE_DIR) / "models" / "fnet-lite.onnx";
+#endif
+    p.onnx.classes = segmentation::voc_classes();
+    p.onnx.dynamic_classes = segmentation::voc_dynamic_classes();
+    for (const auto& c : p.onnx.dynamic_classes)
+      p.onnx.dynamic_ids.push_back(static_cast<int>(
+          std::find(p.onnx.classes.begin(), p.onnx.classes.end(), c) - p.onnx.classes.begin()));
+  } else {
+    throw Error("unknown segmenter '" + name + "' (choose none, gt-masks, gt-masks-all or fnet)");
+  }
+  return p;
+}
+
+double FlagScore::precision() const {
+  const std::size_t flagged = true_positive + false_positive;
+  return flagged == 0 ? 0.0 : static_cast<double>(true_positive) / static_cast<double>(flagged);
+}
+double FlagScore::recall() const {
+  const std::size_t dynamic = true_positive + false_negative;
+  return dynamic == 0 ? 0.0 : static_cast<double>(true_positive) / static_cast<double>(dynamic);
+}
+double FlagScore::moved_object_recall() const {
+  return moved_object == 0 ? 0.0 : static_cast<double>(moved_object_flagged) / static_cast<double>(moved_object);
+}
+
 namespace {
 
 StageSummary summarize(std::vector<double> ms) {
@@ -76,11 +118,16 @@ StageSummary summarize(std::vector<double> ms) {
 
 void write_track_times(const fs::path& file, const std::vector<FrameLog>& log) {
   std::ofstream out(file);
-  out << "# frame timestamp extraction_ms tracking_ms waiting_ms mapping_ms total_ms state inliers\n";
+  // segmentation_ms runs in its own thread (not part of total_ms); mask_frame/mask_age say which
+  // frame's mask was used (-1: none); dynamic_kps: keypoints the geometry check removed.
+  out << "# frame timestamp extraction_ms segmentation_ms mask_wait_ms geometry_ms tracking_ms waiting_ms "
+         "mapping_ms total_ms state inliers mask_frame mask_age dynamic_kps\n";
   for (const FrameLog& f : log)
-    out << fmt::format("{} {:.6f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {} {}\n", f.index, f.timestamp,
-                       1e3 * f.timing.extraction, 1e3 * f.timing.tracking, 1e3 * f.timing.waiting,
-                       1e3 * f.timing.mapping, 1e3 * f.timing.total(), tracking::to_string(f.state), f.inliers);
+    out << fmt::format("{} {:.6f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {} {} {} {} {}\n", f.index,
+                       f.timestamp, 1e3 * f.timing.extraction, 1e3 * f.timing.segmentation, 1e3 * f.timing.mask_wait,
+                       1e3 * f.timing.geometry, 1e3 * f.timing.tracking, 1e3 * f.timing.waiting,
+                       1e3 * f.timing.mapping, 1e3 * f.timing.total(), tracking::to_string(f.state), f.inliers,
+                       f.mask_frame, f.mask_age, f.geometric_keypoints);
   out.close();
   if (!out) throw file_error(file.string(), "cannot write");
 }
@@ -100,7 +147,14 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       {"map_points", r.map.map_points},
       {"culled_keyframes", r.map.culled_keyframes},
       {"bundle_adjustments", r.map.bundle_adjustments},
+      {"mode", r.mode},
+      {"segmentation", r.segmentation},
+      {"mean_mask_age", r.mean_mask_age},
+      {"frames_without_mask", r.frames_without_mask},
       {"per_frame", {{"extraction", stage_json(r.extraction)},
+                     {"segmentation", stage_json(r.segmentation_time)},
+                     {"mask_wait", stage_json(r.mask_wait)},
+                     {"geometry", stage_json(r.geometry)},
                      {"tracking", stage_json(r.tracking)},
                      {"waiting", stage_json(r.waiting)},
                      {"mapping", stage_json(r.mapping)},
@@ -113,6 +167,16 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
     j["ate"] = {{"rmse", r.ate_rmse}, {"mean", r.ate_mean}, {"median", r.ate_median}, {"max", r.ate_max},
                 {"pairs", r.ate_pairs}};
     j["rpe"] = {{"trans_rmse", r.rpe_trans_rmse}, {"rot_rmse", r.rpe_rot_rmse}};
+  }
+  if (r.flags) {
+    j["dynamic_flags"] = {{"frames", r.flags->frames},
+                          {"precision", r.flags->precision()},
+                          {"recall", r.flags->recall()},
+                          {"true_positive", r.flags->true_positive},
+                          {"false_positive", r.flags->false_positive},
+                          {"false_negative", r.flags->false_negative},
+                          {"moved_object_keypoints", r.flags->moved_object},
+                          {"moved_object_recall", r.flags->moved_object_recall()}};
   }
   std::ofstream out(file);
   out << j.dump(2) << '\n';
@@ -133,15 +197,59 @@ RunReport run_sequence(const RunOptions& o) {
   if (o.max_frames > 0) popts.end = o.max_frames;
   const auto wall0 = std::chrono::steady_clock::now();
   io::FramePrefetcher frames(seq, cfg.camera.depth_map_factor, popts);
-  System slam(cfg, SystemOptions{o.deterministic});
+  SystemOptions sopts;
+  sopts.deterministic = o.deterministic;
+  if (o.mode) sopts.mode = dynamic::parse_mode(*o.mode);
+  if (o.segmenter)
+    sopts.segmentation = segmenter_preset(
+        *o.segmenter, o.sequence,
+        segmentation::SegmentationParams::from_config(cfg.segmentation,
+                                                      cfg.file.empty() ? fs::path{} : cfg.file.parent_path()));
+  System slam(cfg, sopts);
+  report.mode = dynamic::to_string(slam.mode());
+  report.segmentation = slam.segmentation_description();
+
+  // Ground-truth masks (synthetic benchmark): score the dynamic flags on every n-th frame
+  // against the keypoints an unmasked extractor finds there (outside the timed stages).
+  const fs::path gt_masks = o.sequence / "mask";
+  std::optional<features::OrbExtractor> reference_extractor;
+  if (fs::is_directory(gt_masks) && o.flag_eval_stride > 0) {
+    reference_extractor.emplace(cfg.features);
+    report.flags.emplace();
+  }
   ProgressBar bar(frames.size(), o.progress);
-  cv::Mat rgb;
+  cv::Mat rgb, grey;
+  std::vector<cv::KeyPoint> ref_kps;
+  cv::Mat ref_desc;
   while (auto f = frames.next()) {
     // The loader gives BGR; the system expects the camera's colour order.
     if (cfg.camera.rgb_order) cv::cvtColor(f->rgb, rgb, cv::COLOR_BGR2RGB);
     else rgb = f->rgb;
     const TrackResult r = slam.track_rgbd(rgb, f->depth, f->timestamp);
-    report.log.push_back({f->index, f->timestamp, r.state, r.timing, r.inliers});
+    report.log.push_back({f->index, f->timestamp, r.state, r.timing, r.inliers, r.dynamic.mask_frame,
+                          r.dynamic.mask_age, r.dynamic.geometric_keypoints});
+    if (report.flags && f->index % static_cast<std::size_t>(o.flag_eval_stride) == 0) {
+      const fs::path mask_file = gt_masks / seq.entry(f->index).rgb_path.filename();
+      const cv::Mat truth = cv::imread(mask_file.string(), cv::IMREAD_UNCHANGED);
+      if (!truth.empty() && truth.type() == CV_8UC1 && truth.size() == f->rgb.size()) {
+        cv::cvtColor(f->rgb, grey, cv::COLOR_BGR2GRAY);
+        reference_extractor->extract(grey, cv::Mat(), ref_kps, ref_desc);
+        FlagScore& s = *report.flags;
+        ++s.frames;
+        for (const cv::KeyPoint& kp : ref_kps) {
+          const int u = std::clamp(cvRound(kp.pt.x), 0, truth.cols - 1);
+          const int v = std::clamp(cvRound(kp.pt.y), 0, truth.rows - 1);
+          const std::uint8_t t = truth.at<std::uint8_t>(v, u);
+          const bool flagged = !r.dynamic.mask.empty() && r.dynamic.mask.at<std::uint8_t>(v, u) != 0;
+          if (t != 0) (flagged ? s.true_positive : s.false_negative)++;
+          else (flagged ? s.false_positive : s.true_negative)++;
+          if (t == 2) {
+            ++s.moved_object;
+            s.moved_object_flagged += flagged ? 1 : 0;
+          }
+        }
+      }
+    }
     bar.update(report.log.size(), fmt::format("{} ({} inliers)", tracking::to_string(r.state), r.inliers));
   }
   bar.finish();
@@ -152,8 +260,14 @@ RunReport run_sequence(const RunOptions& o) {
   report.io_wait_seconds = ds.wait_seconds;
 
   report.frames = report.log.size();
-  std::vector<double> ext, trk, wai, map, tot;
+  std::vector<double> ext, seg, mwait, geo, trk, wai, map, tot;
+  double age_sum = 0.0;
   for (const FrameLog& f : report.log) {
+    seg.push_back(1e3 * f.timing.segmentation);
+    mwait.push_back(1e3 * f.timing.mask_wait);
+    geo.push_back(1e3 * f.timing.geometry);
+    if (f.mask_age >= 0) age_sum += f.mask_age;
+    else ++report.frames_without_mask;
     report.tracked += f.state == TrackingState::Ok;
     report.lost += f.state == TrackingState::Lost;
     report.not_initialized += f.state == TrackingState::NotInitialized;
@@ -164,6 +278,11 @@ RunReport run_sequence(const RunOptions& o) {
     tot.push_back(1e3 * f.timing.total());
   }
   report.extraction = summarize(ext);
+  report.segmentation_time = summarize(seg);
+  report.mask_wait = summarize(mwait);
+  report.geometry = summarize(geo);
+  if (report.frames > report.frames_without_mask)
+    report.mean_mask_age = age_sum / static_cast<double>(report.frames - report.frames_without_mask);
   report.tracking = summarize(trk);
   report.waiting = summarize(wai);
   report.mapping = summarize(map);

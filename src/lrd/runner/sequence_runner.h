@@ -22,7 +22,10 @@ struct RunOptions {
   std::optional<std::filesystem::path> config;  // lrd-slam YAML config
   std::filesystem::path out;                    // output folder (created)
   bool deterministic = false;
+  std::optional<std::string> mode;       // static | semantic | geometric | full (else the config's)
+  std::optional<std::string> segmenter;  // a segmenter preset (see segmenter_preset), else the config's
   std::size_t max_frames = 0;  // 0: all
+  int flag_eval_stride = 5;    // with ground-truth masks: judge the dynamic flags on every n-th frame
   bool progress = true;        // progress bar on stderr
 };
 
@@ -31,12 +34,38 @@ struct RunOptions {
 // by a "freiburgN" folder name, else the default (tum3). `source` says which was used.
 [[nodiscard]] config::Config resolve_config(const RunOptions& options, std::string* source = nullptr);
 
+// Segmentation presets for --segmenter (the config's `segmentation` section supplies the
+// schedule and dilation):
+//   none          no segmentation
+//   gt-masks      the synthetic benchmark's ground truth, people only (what a semantic network
+//                 can know: a pushed chair is still a chair) — the upper bound for the network
+//   gt-masks-all  ground truth of everything that moves (people and moved objects)
+//   fnet          our FNet-lite through the onnx backend (models/fnet-lite.onnx)
+// Throws lrd::Error for an unknown name.
+[[nodiscard]] segmentation::SegmentationParams segmenter_preset(const std::string& name,
+                                                                const std::filesystem::path& sequence,
+                                                                segmentation::SegmentationParams base);
+
 struct FrameLog {
   std::size_t index = 0;
   double timestamp = 0.0;
   TrackingState state = TrackingState::NotInitialized;
   FrameTiming timing;
   int inliers = 0;
+  std::int64_t mask_frame = -1;
+  int mask_age = -1;
+  int geometric_keypoints = 0;
+};
+
+// Dynamic keypoint flags against ground-truth masks: over the keypoints an unmasked extractor
+// finds, "flagged" = inside the frame's final dynamic mask, "dynamic" = on a moving object.
+struct FlagScore {
+  std::size_t frames = 0;
+  std::size_t true_positive = 0, false_positive = 0, false_negative = 0, true_negative = 0;
+  std::size_t moved_object = 0, moved_object_flagged = 0;  // keypoints on moved (non-person) objects
+  [[nodiscard]] double precision() const;
+  [[nodiscard]] double recall() const;
+  [[nodiscard]] double moved_object_recall() const;
 };
 
 struct StageSummary {
@@ -51,7 +80,13 @@ struct RunReport {
   std::size_t lost = 0;
   std::size_t not_initialized = 0;
   MapStats map;
-  StageSummary extraction, tracking, waiting, mapping, total;  // per frame, without decoding
+  std::string mode;          // static | semantic | geometric | full
+  std::string segmentation;  // backend and schedule
+  StageSummary extraction, segmentation_time, mask_wait, geometry, tracking, waiting, mapping,
+      total;  // per frame, without decoding
+  double mean_mask_age = 0.0;  // frames, over frames with a mask
+  std::size_t frames_without_mask = 0;
+  std::optional<FlagScore> flags;  // when the sequence has ground-truth masks
   double wall_seconds = 0.0;    // whole run including decoding
   double decode_seconds = 0.0;  // decoder thread's busy time
   double io_wait_seconds = 0.0; // tracking thread waiting on decoded frames

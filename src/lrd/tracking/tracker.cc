@@ -75,6 +75,12 @@ TrackingState Tracker::track(data::Frame& frame, double* wait_seconds) {
         velocity_.reset();
       }
     }
+    if (ok && dynamic_check_) {
+      std::vector<map::KeyFrame*> nearby = local_keyframes_;
+      if (reference_kf_ != nullptr && std::find(nearby.begin(), nearby.end(), reference_kf_) == nearby.end())
+        nearby.push_back(reference_kf_);
+      dynamic_check_(frame, nearby);
+    }
     if (ok) ok = track_local_map(frame);
     state_ = ok ? TrackingState::Ok : TrackingState::Lost;
     if (ok) {
@@ -103,6 +109,12 @@ TrackingState Tracker::track(data::Frame& frame, double* wait_seconds) {
   if (state_ == TrackingState::Ok) last_frame_ = frame;
   else if (last_frame_) last_frame_->map_points.assign(last_frame_->size(), nullptr);
   return state_;
+}
+
+std::optional<Eigen::Isometry3d> Tracker::predicted_pose() const {
+  if (state_ != TrackingState::Ok || !last_frame_ || !last_frame_->has_pose()) return std::nullopt;
+  if (!velocity_) return last_frame_->T_cw();
+  return *velocity_ * last_frame_->T_cw();
 }
 
 bool Tracker::recently_recovered(const data::Frame& frame) const {

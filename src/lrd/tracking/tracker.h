@@ -7,6 +7,7 @@
 // corrections of the map.
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -65,6 +66,17 @@ class Tracker {
   // receives the time spent waiting for that mutex (local mapping holding it).
   TrackingState track(data::Frame& frame, double* wait_seconds = nullptr);
 
+  // Called once per frame after the first pose estimate (motion model or reference keyframe) and
+  // before local-map tracking, with the map mutex held and the keyframes near the frame: the
+  // multi-view geometry check (paper §2.7) removes the dynamic keypoints it finds there, so the
+  // final pose is optimized without them and they never create map points.
+  using DynamicCheck = std::function<void(data::Frame& frame, const std::vector<map::KeyFrame*>& nearby)>;
+  void set_dynamic_check(DynamicCheck check) { dynamic_check_ = std::move(check); }
+
+  // World-to-camera pose of the next frame by the constant-velocity model (empty when not
+  // tracking). Map mutex not needed: it reads the tracker's own state only; call between frames.
+  [[nodiscard]] std::optional<Eigen::Isometry3d> predicted_pose() const;
+
   [[nodiscard]] TrackingState state() const { return state_; }
   [[nodiscard]] const std::vector<FrameRecord>& records() const { return records_; }
   [[nodiscard]] const TrackerParams& params() const { return params_; }
@@ -104,6 +116,7 @@ class Tracker {
   std::vector<map::KeyFrame*> local_keyframes_;
   std::vector<map::MapPoint*> local_points_;
   std::vector<FrameRecord> records_;
+  DynamicCheck dynamic_check_;
 };
 
 }  // namespace lrd::tracking

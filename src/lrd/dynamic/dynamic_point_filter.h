@@ -1,0 +1,55 @@
+#pragma once
+// The multi-view geometry check (paper §2.7, Fig. 5; DynaSLAM's test): keypoints with depth of
+// the keyframes that overlap most with the current frame are projected into it with the first
+// pose estimate. A static point lands where the current depth says it should; when something
+// now stands in front of it (projected depth z_proj exceeds the measured z' by more than tau_z,
+// agreed by the depth patch around it), the pixel belongs to a moving object. Points seen at a
+// parallax above 30 degrees are not judged: the difference may be plain occlusion. The flagged
+// pixels are grown into regions on the depth image, and every keypoint of the frame inside
+// them is dynamic.
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "lrd/dynamic/dynamic_params.h"
+
+namespace lrd::data {
+class Frame;
+}
+namespace lrd::map {
+class KeyFrame;
+}
+
+namespace lrd::dynamic {
+
+struct GeometryCheckResult {
+  cv::Mat mask;                 // CV_8UC1 full size, 255 = moving (empty: nothing flagged)
+  std::vector<bool> dynamic;    // per keypoint of the frame
+  int keyframes = 0;            // keyframes compared
+  int judged = 0;               // projected points with a valid depth to compare
+  int seeds = 0;                // of those, flagged as moving
+  int parallax_skipped = 0;     // not judged: parallax above the limit
+  int flagged_keypoints = 0;
+};
+
+class DynamicPointFilter {
+ public:
+  explicit DynamicPointFilter(GeometryCheckParams params) : params_(params) {}
+
+  // `frame` must have its first pose estimate; `depth` is its CV_32FC1 depth in metres;
+  // `candidates` the keyframes near it (the tracker's local keyframes). Map mutex held.
+  [[nodiscard]] GeometryCheckResult check(const data::Frame& frame, const cv::Mat& depth,
+                                          const std::vector<map::KeyFrame*>& candidates) const;
+
+  // The `keyframes` candidates overlapping most with a camera at T_cw (nearest in position and
+  // viewing direction), at least min_keyframe_age_s older than `timestamp`.
+  [[nodiscard]] std::vector<map::KeyFrame*> select_keyframes(const Eigen::Isometry3d& T_cw, double timestamp,
+                                                             const std::vector<map::KeyFrame*>& candidates) const;
+
+  [[nodiscard]] const GeometryCheckParams& params() const { return params_; }
+
+ private:
+  GeometryCheckParams params_;
+};
+
+}  // namespace lrd::dynamic

@@ -1,0 +1,138 @@
+#include "lrd/segmentation/onnx_segmenter.h"
+
+#include <fmt/format.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "lrd/util/error.h"
+
+namespace lrd::segmentation {
+
+namespace {
+std::string shape_of(const cv::Mat& m) {
+  std::string s;
+  for (int i = 0; i < m.dims; ++i) s += (i ? "x" : "") + std::to_string(m.size[i]);
+  return s;
+}
+}  // namespace
+
+OnnxSegmenter::OnnxSegmenter(const OnnxParams& params) : params_(params) {
+  std::error_code ec;
+  if (params_.model.empty()) throw Error("segmentation.onnx.model: no model file given");
+  if (!std::filesystem::is_regular_file(params_.model, ec))
+    throw file_error(params_.model, "segmentation model not found");
+  try {
+    net_ = cv::dnn::readNetFromONNX(params_.model.string());
+  } catch (const cv::Exception& e) {
+    throw file_error(params_.model, std::string("OpenCV DNN cannot read this ONNX model: ") + e.err);
+  }
+  if (net_.empty()) throw file_error(params_.model, "OpenCV DNN read an empty network");
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  is_dynamic_.assign(std::max<std::size_t>(params_.classes.size(), 1), 0);
+  for (int id : params_.dynamic_ids) is_dynamic_[static_cast<std::size_t>(id)] = 1;
+  // One forward pass on a grey image: the output must fit the configured layout.
+  const cv::Mat probe(params_.input_height, params_.input_width, CV_8UC3, cv::Scalar(128, 128, 128));
+  check_output(forward(probe, true));
+}
+
+std::string OnnxSegmenter::describe() const { return "onnx (" + params_.model.string() + ")"; }
+
+cv::Mat OnnxSegmenter::blob(const cv::Mat& rgb, bool rgb_order) const {
+  cv::Mat colour;
+  if (rgb.channels() == 1) cv::cvtColor(rgb, colour, cv::COLOR_GRAY2BGR);
+  else if (rgb_order != params_.input_rgb) cv::cvtColor(rgb, colour, cv::COLOR_BGR2RGB);  // swaps R and B
+  else colour = rgb;
+  cv::Mat resized;
+  cv::resize(colour, resized, cv::Size(params_.input_width, params_.input_height), 0, 0, cv::INTER_LINEAR);
+  // (x * scale - mean) / std, per channel in the network's order.
+  cv::Mat f;
+  resized.convertTo(f, CV_32FC3, params_.scale);
+  const cv::Scalar mean(params_.mean[0], params_.mean[1], params_.mean[2]);
+  const cv::Scalar inv_std(1.0 / params_.std[0], 1.0 / params_.std[1], 1.0 / params_.std[2]);
+  cv::subtract(f, mean, f);
+  cv::multiply(f, inv_std, f);
+  return cv::dnn::blobFromImage(f, 1.0, cv::Size(), cv::Scalar(), false, false, CV_32F);
+}
+
+cv::Mat OnnxSegmenter::forward(const cv::Mat& rgb, bool rgb_order) {
+  net_.setInput(blob(rgb, rgb_order));
+  try {
+    return net_.forward().clone();
+  } catch (const cv::Exception& e) {
+    throw file_error(params_.model, std::string("forward pass failed: ") + e.err);
+  }
+}
+
+void OnnxSegmenter::check_output(const cv::Mat& out) {
+  const int classes = static_cast<int>(params_.classes.size());
+  const bool four_d = out.dims == 4 && out.size[0] == 1;
+  const bool three_d = out.dims == 3 && out.size[0] == 1;
+  std::string expected;
+  bool ok = false;
+  switch (params_.output) {
+    case OutputLayout::Logits:
+      expected = fmt::format("1x{}xHxW class scores", classes);
+      ok = four_d && out.size[1] == classes;
+      break;
+    case OutputLayout::Probability:
+      expected = "1x1xHxW probability";
+      ok = (four_d && out.size[1] == 1) || three_d;
+      break;
+    case OutputLayout::Labels:
+      expected = "1x1xHxW or 1xHxW class indices";
+      ok = (four_d && out.size[1] == 1) || three_d;
+      break;
+  }
+  if (!ok)
+    throw file_error(params_.model, fmt::format("output shape {} does not fit the config (expected {})",
+                                                shape_of(out), expected));
+}
+
+cv::Mat OnnxSegmenter::labels(const cv::Mat& rgb, bool rgb_order) {
+  const cv::Mat out = forward(rgb, rgb_order);
+  const int h = out.size[out.dims - 2], w = out.size[out.dims - 1];
+  const cv::Size image_size = rgb.size();
+  cv::Mat small(h, w, CV_8UC1);
+  if (params_.output == OutputLayout::Probability) {
+    const cv::Mat prob(h, w, CV_32F, const_cast<float*>(out.ptr<float>()));
+    cv::Mat full;
+    cv::resize(prob, full, image_size, 0, 0, cv::INTER_LINEAR);
+    cv::Mat label = full > params_.threshold;  // 255 / 0
+    return label / 255;
+  }
+  if (params_.output == OutputLayout::Labels) {
+    const cv::Mat lab(h, w, CV_32F, const_cast<float*>(out.ptr<float>()));
+    lab.convertTo(small, CV_8U);
+  } else {
+    const int c = out.size[1];
+    const std::size_t plane = static_cast<std::size_t>(h) * w;
+    const float* data = out.ptr<float>();
+    for (std::size_t i = 0; i < plane; ++i) {
+      int best = 0;
+      float best_score = data[i];
+      for (int k = 1; k < c; ++k) {
+        const float s = data[static_cast<std::size_t>(k) * plane + i];
+        if (s > best_score) best_score = s, best = k;
+      }
+      small.data[i] = static_cast<unsigned char>(best);
+    }
+  }
+  cv::Mat full;
+  cv::resize(small, full, image_size, 0, 0, cv::INTER_NEAREST);
+  return full;
+}
+
+cv::Mat OnnxSegmenter::segment(const cv::Mat& rgb, bool rgb_order, double /*timestamp*/) {
+  const cv::Mat label = labels(rgb, rgb_order);
+  if (params_.output == OutputLayout::Probability) return label * 255;
+  cv::Mat mask(label.size(), CV_8UC1);
+  const std::size_t n = label.total();
+  for (std::size_t i = 0; i < n; ++i) {
+    const unsigned l = label.data[i];
+    mask.data[i] = (l < is_dynamic_.size() && is_dynamic_[l]) ? 255 : 0;
+  }
+  return mask;
+}
+
+}  // namespace lrd::segmentation
