@@ -13,7 +13,7 @@ namespace lrd::app {
 namespace {
 
 struct RunCli {
-  std::string sequence, settings, preset, config, out, mode, segmenter;
+  std::string sequence, settings, preset, config, out, mode, segmenter, save_masks;
   bool deterministic = false;
   bool quiet = false;
   std::size_t max_frames = 0;
@@ -69,11 +69,12 @@ void register_run_command(CLI::App& app) {
                 "Local mapping in lock-step after each keyframe: identical input gives identical bytes");
   cmd->add_option("--mode", cli->mode,
                   "Dynamic-scene mode: static (ORB-SLAM2), semantic (LRD-SLAM P), geometric, full (LRD-SLAM C); "
-                  "default: the config's dynamic.mode")
-      ->check(CLI::IsMember({"static", "semantic", "geometric", "full"}));
+                  "default: the config's dynamic.mode");
   cmd->add_option("--segmenter", cli->segmenter,
                   "Segmentation preset: none, gt-masks (synthetic ground truth, people), gt-masks-all, fnet; "
                   "default: the config's segmentation section");
+  cmd->add_option("--save-masks", cli->save_masks,
+                  "Write each frame's dynamic mask (PNG, named like its colour image) to this folder");
   cmd->add_option("--max-frames", cli->max_frames, "Stop after this many frames (0: all)");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->callback([cli] {
@@ -87,6 +88,7 @@ void register_run_command(CLI::App& app) {
     o.max_frames = cli->max_frames;
     if (!cli->mode.empty()) o.mode = cli->mode;
     if (!cli->segmenter.empty()) o.segmenter = cli->segmenter;
+    if (!cli->save_masks.empty()) o.save_masks = cli->save_masks;
     o.progress = !cli->quiet;
     const runner::RunReport r = runner::run_sequence(o);
     print_report(o, r);

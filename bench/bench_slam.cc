@@ -14,45 +14,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "bench/yardstick.h"
-#include "lrd/io/tum_sequence.h"
+#include "bench/sequence_cache.h"
 #include "lrd/runner/sequence_runner.h"
-#include "lrd/synth/sequence_writer.h"
-#include "lrd/synth/synthetic_sequence.h"
 
 namespace fs = std::filesystem;
 
-namespace {
-
-fs::path ensure_sequence(const fs::path& cache, const std::string& preset, int frames) {
-  const fs::path dir = cache / (frames > 0 ? fmt::format("{}_{}", preset, frames) : preset);
-  if (fs::exists(dir / "associations.txt")) return dir;
-  std::fprintf(stderr, "generating %s into %s ...\n", preset.c_str(), dir.string().c_str());
-  lrd::synth::SynthOptions o;
-  o.preset = preset;
-  o.seed = 1;
-  o.frames = frames;
-  const lrd::synth::SyntheticSequence seq(o);
-  (void)lrd::synth::write_sequence(seq, dir);
-  return dir;
-}
-
-// Y on (up to) 100 evenly spread grey frames of the sequence.
-double yardstick(const fs::path& dir) {
-  const auto seq = lrd::io::TumSequence::open(dir);
-  std::vector<cv::Mat> grey;
-  const std::size_t step = std::max<std::size_t>(1, seq.size() / 100);
-  for (std::size_t i = 0; i < seq.size(); i += step)
-    grey.push_back(cv::imread(seq.entry(i).rgb_path.string(), cv::IMREAD_GRAYSCALE));
-  return lrd::bench::yardstick_ms(grey);
-}
-
-}  // namespace
+using lrd::bench::ensure_sequence;
 
 int main(int argc, char** argv) {
   CLI::App app{"SLAM core benchmark: accuracy and time per frame on synthetic presets"};
@@ -61,11 +32,13 @@ int main(int argc, char** argv) {
   std::string cache = "out/bench/sequences", markdown;
   int frames = -1;
   bool deterministic = false;
+  std::string mode = "static";
   app.add_option("--presets", presets, "Comma-separated presets")->delimiter(',');
   app.add_option("--cache", cache, "Where generated sequences are kept");
   app.add_option("--frames", frames, "Frames per sequence (default: the preset's length)");
   app.add_option("--markdown", markdown, "Also write the table as Markdown to this file");
   app.add_flag("--deterministic", deterministic, "Lock-step local mapping");
+  app.add_option("--mode", mode, "Dynamic-scene mode (default static: the SLAM core alone, the ORB-SLAM2 row)");
   CLI11_PARSE(app, argc, argv);
 
   std::ostringstream md;
@@ -75,12 +48,13 @@ int main(int argc, char** argv) {
               "RPE cm/s deg/s", "extract ms", "track ms", "wait ms", "total ms", "total/Y", "Y ms");
   for (const std::string& preset : presets) {
     const fs::path dir = ensure_sequence(cache, preset, frames);
-    const double y = yardstick(dir);
+    const double y = lrd::bench::sequence_yardstick_ms(dir);
     lrd::runner::RunOptions o;
     o.sequence = dir;
     o.out = fs::path("out/bench/runs") / preset;
     o.progress = false;
     o.deterministic = deterministic;
+    o.mode = mode;
     const lrd::runner::RunReport r = lrd::runner::run_sequence(o);
     const std::string rpe = fmt::format("{:.2f} {:.2f}", 100 * r.rpe_trans_rmse, r.rpe_rot_rmse);
     std::printf("%-19s %6zu %5zu %4zu %9.2f %16s %10.1f %9.1f %8.1f %12.1f %9.2f %7.1f\n", preset.c_str(), r.frames,

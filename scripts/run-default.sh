@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Sets up a fresh Debian bookworm machine, builds lrd-slam and runs the main job on the built-in
 # default: it renders the default synthetic dynamic sequence (walking_xyz, seed 1), runs SLAM on
-# it and prints ATE/RPE against its ground truth (with plots). Dynamic-scene handling and the
-# shipped segmentation model join this run as their issues land; today it is the static-world
-# SLAM core, i.e. the "ORB-SLAM2" row that the dynamic mode has to beat.
+# it and prints ATE/RPE against its ground truth (with plots). With the shipped segmentation
+# model (models/fnet-lite.onnx) it runs the full LRD-SLAM (C) mode; until that model ships, the
+# model-free `geometric` mode (the multi-view geometry check alone).
 # Usage: scripts/run-default.sh [OUT_DIR]   (default: out/default)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,6 +16,7 @@ SEQ="$OUT/walking_xyz"
 if [ ! -f "$SEQ/sequence.json" ]; then
   "$BIN" synth --preset walking_xyz --seed 1 --out "$SEQ"
 fi
-"$BIN" run --sequence "$SEQ" --out "$OUT/run"
+if [ -f models/fnet-lite.onnx ]; then MODE=(--mode full --segmenter fnet); else MODE=(--mode geometric); fi
+"$BIN" run --sequence "$SEQ" --out "$OUT/run" "${MODE[@]}"
 "$BIN" eval "$SEQ/groundtruth.txt" "$OUT/run/CameraTrajectory.txt" --json "$OUT/eval.json" --plot "$OUT/plots"
 echo "Sequence: $SEQ   trajectory: $OUT/run/CameraTrajectory.txt   evaluation: $OUT/eval.json   plots: $OUT/plots"

@@ -79,12 +79,29 @@ struct System::Impl {
     if (dynamic::uses_geometry(mode)) {
       tracker.set_dynamic_check([this](data::Frame& f, const std::vector<map::KeyFrame*>& nearby) {
         const auto t0 = std::chrono::steady_clock::now();
+        // In geometric mode nothing was filtered before the first estimate: judge from a pose
+        // the moving objects cannot drag, and start the final optimization from it.
+        if (dynamic_params.mode == dynamic::DynamicMode::Geometric) {
+          int inl = 0;
+          const auto T = filter.robust_pose(f, &inl);
+          spdlog::debug("frame {}: robust pose {} ({} inliers)", f.id(), T ? "ok" : "failed", inl);
+          if (T) f.set_pose(*T);
+        }
         const dynamic::GeometryCheckResult r = filter.check(f, current_depth, nearby);
+        if (spdlog::should_log(spdlog::level::trace)) {
+          const Eigen::Isometry3d T = f.T_wc();
+          const Eigen::Quaterniond q(T.linear());
+          spdlog::trace("first estimate {} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}", f.id(), T.translation().x(),
+                        T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w());
+        }
         if (r.flagged_keypoints > 0) f.remove_keypoints(r.dynamic);
         if (!r.mask.empty()) {
           if (f.dynamic_mask.empty()) f.dynamic_mask = r.mask;
           else cv::bitwise_or(f.dynamic_mask, r.mask, f.dynamic_mask);  // a new buffer: the old one is shared
         }
+        spdlog::debug("frame {}: geometry check: {} keyframes, {} judged, {} moving, {} skipped (parallax), {} "
+                      "keypoints removed",
+                      f.id(), r.keyframes, r.judged, r.seeds, r.parallax_skipped, r.flagged_keypoints);
         last_check = r;
         geometry_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       });
@@ -98,7 +115,7 @@ struct System::Impl {
     const auto result =
         worker->wait(id, sync ? std::nullopt : std::optional<double>(segmentation_params.max_wait_ms / 1000.0));
     if (!result) return {};
-    cv::Mat mask = result->mask;
+    cv::Mat mask = result->mask.clone();  // dilated in place below; the worker keeps its copy
     const auto age = static_cast<int>(id - result->frame_id);
     info.mask_frame = static_cast<std::int64_t>(result->frame_id);
     info.mask_age = age;
@@ -111,8 +128,6 @@ struct System::Impl {
         mask = dynamic::propagate_mask(mask, it->depth, *predicted * it->T_cw->inverse(), config.camera);
       dilation += std::min(segmentation_params.max_age_dilation_px,
                            static_cast<int>(std::lround(age * segmentation_params.age_dilation_px)));
-    } else {
-      mask = mask.clone();  // dilated in place below; the worker's copy stays as it was
     }
     dynamic::dilate_mask(mask, dilation);
     return mask;
@@ -203,7 +218,11 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
     cv::Mat semantic = s.semantic_mask(id, result.dynamic, result.timing.segmentation);
     if (!semantic.empty()) {
       if (dynamic_mask.empty()) dynamic_mask = semantic;
-      else cv::bitwise_or(mask, semantic, dynamic_mask);
+      else {
+        cv::Mat merged;  // a new buffer: dynamic_mask still shares the caller's
+        cv::bitwise_or(mask, semantic, merged);
+        dynamic_mask = merged;
+      }
     }
     result.timing.mask_wait = seconds(w0, Clock::now());
     extraction = data::Frame::Extraction::DescribeDetected;
@@ -231,7 +250,8 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
   result.dynamic.mask = frame.dynamic_mask;
   if (result.state == TrackingState::Ok) result.T_wc = frame.T_wc();
   if (s.worker) {
-    s.recent.push_back({id, depth_m, frame.has_pose() && result.state == TrackingState::Ok
+    // Our own copy: a CV_32F depth still shares the caller's buffer.
+    s.recent.push_back({id, depth.type() == CV_32FC1 ? depth_m.clone() : depth_m, frame.has_pose() && result.state == TrackingState::Ok
                                          ? std::optional<Eigen::Isometry3d>(frame.T_cw())
                                          : std::nullopt});
     if (s.recent.size() > kRecentFrames) s.recent.pop_front();

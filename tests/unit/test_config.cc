@@ -7,6 +7,8 @@
 #include <string>
 
 #include "lrd/config/config.h"
+#include "lrd/dynamic/dynamic_params.h"
+#include "lrd/segmentation/segmentation_params.h"
 #include "lrd/mapping/local_mapper.h"
 #include "lrd/tracking/tracker.h"
 #include "lrd/util/error.h"
@@ -236,5 +238,45 @@ TEST_F(ConfigTest, TrackingAndMappingKeysAreChecked) {
     FAIL() << "out-of-range value accepted";
   } catch (const lrd::Error& e) {
     EXPECT_TRUE(contains(e.what(), "mapping.redundant_ratio")) << e.what();
+  }
+}
+
+// The shipped default.yaml documents the dynamic and segmentation keys with the code's defaults.
+TEST_F(ConfigTest, ShippedDefaultDynamicAndSegmentationSectionsMatchCodeDefaults) {
+  const auto cfg = load_config(fs::path(LRD_SOURCE_DIR) / "config" / "default.yaml");
+  const auto d = lrd::dynamic::DynamicParams::from_config(cfg.dynamic);
+  const lrd::dynamic::DynamicParams dd;
+  EXPECT_EQ(d.mode, dd.mode);
+  EXPECT_EQ(d.geometry.keyframes, dd.geometry.keyframes);
+  EXPECT_DOUBLE_EQ(d.geometry.max_parallax_deg, dd.geometry.max_parallax_deg);
+  EXPECT_DOUBLE_EQ(d.geometry.depth_threshold, dd.geometry.depth_threshold);
+  EXPECT_DOUBLE_EQ(d.geometry.depth_threshold_slope, dd.geometry.depth_threshold_slope);
+  EXPECT_DOUBLE_EQ(d.geometry.seed_support, dd.geometry.seed_support);
+  EXPECT_EQ(d.geometry.region_dilation_px, dd.geometry.region_dilation_px);
+  EXPECT_DOUBLE_EQ(d.geometry.grow_band, dd.geometry.grow_band);
+  EXPECT_DOUBLE_EQ(d.geometry.min_keyframe_age_s, dd.geometry.min_keyframe_age_s);
+  const auto s = lrd::segmentation::SegmentationParams::from_config(cfg.segmentation);
+  const lrd::segmentation::SegmentationParams sd;
+  EXPECT_EQ(s.backend, sd.backend);
+  EXPECT_EQ(s.schedule, sd.schedule);
+  EXPECT_DOUBLE_EQ(s.max_wait_ms, sd.max_wait_ms);
+  EXPECT_EQ(s.dilation_px, sd.dilation_px);
+  EXPECT_EQ(s.max_age_dilation_px, sd.max_age_dilation_px);
+  EXPECT_EQ(s.onnx.input_width, sd.onnx.input_width);
+  EXPECT_EQ(s.onnx.classes, lrd::segmentation::voc_classes());
+  EXPECT_EQ(s.onnx.dynamic_classes, lrd::segmentation::voc_dynamic_classes());
+  EXPECT_EQ(s.onnx.dynamic_ids, (std::vector<int>{15, 3, 8, 10, 12, 13, 17}));
+  EXPECT_NEAR(s.onnx.scale, 1.0 / 255.0, 1e-15);
+  EXPECT_TRUE(s.masks.dynamic_values.empty());
+}
+
+TEST_F(ConfigTest, DynamicModeTypoIsAnErrorNamingTheChoices) {
+  const auto cfg = load_config(write("d.yaml", "dynamic:\n  mode: ful\n"));
+  try {
+    (void)lrd::dynamic::DynamicParams::from_config(cfg.dynamic);
+    FAIL() << "typo accepted";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "d.yaml:2")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "full")) << e.what();
   }
 }

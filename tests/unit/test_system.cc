@@ -44,7 +44,9 @@ lrd::config::Config config_for(const lrd::camera::PinholeCamera& cam) {
 }
 
 lrd::io::Trajectory run(const RenderedSequence& seq, bool deterministic, int* lost = nullptr) {
-  lrd::System slam(config_for(seq.camera), lrd::SystemOptions{deterministic});
+  lrd::SystemOptions options;
+  options.deterministic = deterministic;
+  lrd::System slam(config_for(seq.camera), options);
   int n_lost = 0;
   cv::Mat rgb;
   for (const auto& f : seq.frames) {

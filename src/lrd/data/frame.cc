@@ -48,6 +48,7 @@ Frame::Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::
 
 void Frame::remove_keypoints(const std::vector<bool>& drop) {
   const std::size_t n = keypoints_.size();
+  if (drop.size() != n) throw Error("frame: remove_keypoints needs one flag per keypoint");
   std::size_t kept = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (drop[i]) continue;

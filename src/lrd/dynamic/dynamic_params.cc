@@ -39,16 +39,25 @@ DynamicParams DynamicParams::from_config(config::NodeReader r) {
   q.depth_threshold_slope = g.get("depth_threshold_slope", q.depth_threshold_slope);
   g.check(q.depth_threshold_slope >= 0, "depth_threshold_slope", "must be >= 0");
   q.max_depth = g.get("max_depth", q.max_depth);
+  g.check(q.max_depth > 0, "max_depth", "must be > 0");
   q.neighbourhood = g.get("neighbourhood", q.neighbourhood);
   g.check(q.neighbourhood >= 0 && q.neighbourhood <= 10, "neighbourhood", "must be in [0, 10]");
   q.neighbourhood_agreement = g.get("neighbourhood_agreement", q.neighbourhood_agreement);
   g.check(q.neighbourhood_agreement >= 0 && q.neighbourhood_agreement <= 1, "neighbourhood_agreement",
           "must be in [0, 1]");
   q.min_seeds = g.get("min_seeds", q.min_seeds);
+  q.seed_support = g.get("seed_support", q.seed_support);
+  g.check(q.seed_support >= 0 && q.seed_support <= 1, "seed_support", "must be in [0, 1]");
   q.grow_step = g.get("grow_step", q.grow_step);
   q.grow_band = g.get("grow_band", q.grow_band);
   q.grow_extent = g.get("grow_extent", q.grow_extent);
+  g.check(q.min_seeds >= 1, "min_seeds", "must be >= 1");
+  g.check(q.grow_step > 0 && q.grow_band > 0 && q.grow_extent > 0, "grow_step",
+          "grow_step, grow_band and grow_extent must be > 0");
+  q.region_dilation_px = g.get("region_dilation_px", q.region_dilation_px);
+  g.check(q.region_dilation_px >= 0 && q.region_dilation_px <= 50, "region_dilation_px", "must be in [0, 50]");
   q.min_keyframe_age_s = g.get("min_keyframe_age_s", q.min_keyframe_age_s);
+  g.check(q.min_keyframe_age_s >= 0, "min_keyframe_age_s", "must be >= 0");
   g.finish();
   r.finish();
   return p;

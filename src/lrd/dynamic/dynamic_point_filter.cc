@@ -3,12 +3,33 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include <spdlog/spdlog.h>
 
 #include "lrd/data/frame.h"
 #include "lrd/dynamic/depth_region_grower.h"
+#include "lrd/dynamic/mask_propagator.h"
 #include "lrd/map/keyframe.h"
+#include "lrd/map/map_point.h"
 
 namespace lrd::dynamic {
+
+namespace {
+// Raw (distorted) pixel of an ideal one: depth images are registered to the raw colour image,
+// so depth is read there (Brown-Conrady, OpenCV's k1 k2 p1 p2 k3).
+Eigen::Vector2d distort(const camera::PinholeCamera& cam, const Eigen::Vector2d& ideal) {
+  const camera::Distortion& d = cam.distortion;
+  if (d.is_zero()) return ideal;
+  const double x = (ideal.x() - cam.cx) / cam.fx, y = (ideal.y() - cam.cy) / cam.fy;
+  const double r2 = x * x + y * y;
+  const double radial = 1.0 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
+  const double xd = x * radial + 2.0 * d.p1 * x * y + d.p2 * (r2 + 2.0 * x * x);
+  const double yd = y * radial + d.p1 * (r2 + 2.0 * y * y) + 2.0 * d.p2 * x * y;
+  return {cam.fx * xd + cam.cx, cam.fy * yd + cam.cy};
+}
+}  // namespace
 
 std::vector<map::KeyFrame*> DynamicPointFilter::select_keyframes(const Eigen::Isometry3d& T_cw, double timestamp,
                                                                  const std::vector<map::KeyFrame*>& candidates) const {
@@ -31,6 +52,46 @@ std::vector<map::KeyFrame*> DynamicPointFilter::select_keyframes(const Eigen::Is
   return out;
 }
 
+std::optional<Eigen::Isometry3d> DynamicPointFilter::robust_pose(const data::Frame& frame, int* inliers) const {
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> image;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    const map::MapPoint* mp = frame.map_points[i];
+    if (mp == nullptr || mp->is_bad()) continue;
+    const Eigen::Vector3d& X = mp->position();
+    object.emplace_back(X.x(), X.y(), X.z());
+    image.emplace_back(frame.undistorted()[i].pt.x, frame.undistorted()[i].pt.y);
+  }
+  if (inliers != nullptr) *inliers = 0;
+  if (object.size() < 20) return std::nullopt;
+  const camera::PinholeCamera& cam = frame.camera();
+  const cv::Matx33d K(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
+  const Eigen::Isometry3d& T = frame.T_cw();
+  cv::Mat R, rvec, tvec;
+  cv::eigen2cv(Eigen::Matrix3d(T.linear()), R);
+  cv::Rodrigues(R, rvec);
+  cv::eigen2cv(Eigen::Vector3d(T.translation()), tvec);
+  std::vector<int> kept;
+  const bool ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, true, 200, 2.5f, 0.999, kept,
+                                     cv::SOLVEPNP_ITERATIVE);
+  if (inliers != nullptr) *inliers = static_cast<int>(kept.size());
+  if (!ok || kept.size() < std::max<std::size_t>(15, object.size() / 3)) return std::nullopt;
+  cv::Rodrigues(rvec, R);
+  Eigen::Matrix3d Re;
+  Eigen::Vector3d te;
+  cv::cv2eigen(R, Re);
+  cv::cv2eigen(tvec, te);
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = Re;
+  out.translation() = te;
+  // It corrects a drag of centimetres; a jump far from the tracker's estimate is a degenerate
+  // sample (seen once in ~1000 frames, which then lost tracking), not a better pose.
+  const Eigen::Isometry3d delta = out * T.inverse();
+  if (delta.translation().norm() > 0.1 || Eigen::AngleAxisd(delta.linear()).angle() > 5.0 * std::numbers::pi / 180.0)
+    return std::nullopt;
+  return out;
+}
+
 GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv::Mat& depth,
                                               const std::vector<map::KeyFrame*>& candidates) const {
   GeometryCheckResult r;
@@ -41,6 +102,10 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
   const double cos_limit = std::cos(params_.max_parallax_deg * std::numbers::pi / 180.0);
   const int n = params_.neighbourhood;
   std::vector<RegionSeed> seeds;
+  constexpr int kCell = 24;  // pixels
+  const int cells_x = depth.cols / kCell + 1, cells_y = depth.rows / kCell + 1;
+  std::vector<int> judged_in(static_cast<std::size_t>(cells_x * cells_y), 0), seeds_in(judged_in.size(), 0);
+  auto cell_of = [&](int u, int v) { return static_cast<std::size_t>((v / kCell) * cells_x + u / kCell); };
 
   const auto keyframes = select_keyframes(T_cw, frame.timestamp(), candidates);
   r.keyframes = static_cast<int>(keyframes.size());
@@ -56,7 +121,7 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
       const Eigen::Vector3d Xc = T_cw * X;
       const double z_proj = Xc.z();
       if (z_proj <= 0.1 || z_proj > params_.max_depth) continue;
-      const Eigen::Vector2d uv = cam.project(Xc);
+      const Eigen::Vector2d uv = distort(cam, cam.project(Xc));
       const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
       if (u < n || v < n || u >= depth.cols - n || v >= depth.rows - n) continue;
       const float z_now = depth.at<float>(v, u);
@@ -68,6 +133,7 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
         continue;
       }
       ++r.judged;
+      ++judged_in[cell_of(u, v)];
       const double threshold = params_.depth_threshold + params_.depth_threshold_slope * z_proj;
       if (z_proj - z_now <= threshold) continue;
       // The patch must agree: a lone closer pixel is noise or an edge, not an object.
@@ -81,7 +147,26 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
         }
       if (valid == 0 || closer < params_.neighbourhood_agreement * valid) continue;
       seeds.push_back({static_cast<float>(u), static_cast<float>(v), z_now});
+      ++seeds_in[cell_of(u, v)];
+      spdlog::trace("seed kf {} frame {} u {} v {} z_proj {:.3f} z_now {:.3f}", kf->id(), frame.id(), u, v, z_proj, z_now);
     }
+  }
+  // A moving object makes most judged points around it closer than expected; plain occlusion at
+  // a depth edge (a wall point now hidden by a desk seen from a new angle) makes a few. Seeds
+  // count only where they are the majority of the judged points of their 3x3-cell neighbourhood.
+  {
+    std::vector<RegionSeed> supported;
+    for (const RegionSeed& seed : seeds) {
+      const int cx = static_cast<int>(seed.u) / kCell, cy = static_cast<int>(seed.v) / kCell;
+      int judged = 0, moving = 0;
+      for (int y = std::max(0, cy - 1); y <= std::min(cells_y - 1, cy + 1); ++y)
+        for (int x = std::max(0, cx - 1); x <= std::min(cells_x - 1, cx + 1); ++x) {
+          judged += judged_in[static_cast<std::size_t>(y * cells_x + x)];
+          moving += seeds_in[static_cast<std::size_t>(y * cells_x + x)];
+        }
+      if (moving >= params_.min_seeds && moving >= params_.seed_support * judged) supported.push_back(seed);
+    }
+    seeds.swap(supported);
   }
   r.seeds = static_cast<int>(seeds.size());
   if (r.seeds < params_.min_seeds) return r;
@@ -91,6 +176,7 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
   grow.band = params_.grow_band;
   grow.extent = params_.grow_extent;
   r.mask = grow_regions(depth, seeds, cam.fx, cam.fy, grow);
+  dilate_mask(r.mask, params_.region_dilation_px);
   for (std::size_t i = 0; i < frame.size(); ++i) {
     const cv::Point2f& p = frame.keypoints()[i].pt;
     const int u = std::clamp(static_cast<int>(std::lround(p.x)), 0, r.mask.cols - 1);

@@ -9,6 +9,7 @@
 // them is dynamic.
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "lrd/dynamic/dynamic_params.h"
@@ -45,6 +46,13 @@ class DynamicPointFilter {
   // viewing direction), at least min_keyframe_age_s older than `timestamp`.
   [[nodiscard]] std::vector<map::KeyFrame*> select_keyframes(const Eigen::Isometry3d& T_cw, double timestamp,
                                                              const std::vector<map::KeyFrame*>& candidates) const;
+
+  // A pose for the check that moving objects cannot drag (paper §2.7 asks for a first estimate
+  // on filtered features; in geometric mode nothing is filtered yet, and people that walk
+  // coherently bias the motion-only optimization by centimetres per frame): PnP RANSAC on the
+  // frame's map-point matches, from the current estimate, keeping the dominant rigid motion.
+  // Empty when too few matches agree. OpenCV's RANSAC seeds its own generator: deterministic.
+  [[nodiscard]] std::optional<Eigen::Isometry3d> robust_pose(const data::Frame& frame, int* inliers = nullptr) const;
 
   [[nodiscard]] const GeometryCheckParams& params() const { return params_; }
 

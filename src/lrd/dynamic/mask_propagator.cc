@@ -7,16 +7,18 @@ namespace lrd::dynamic {
 cv::Mat propagate_mask(const cv::Mat& mask, const cv::Mat& depth, const Eigen::Isometry3d& T_t_k,
                        const camera::PinholeCamera& camera) {
   cv::Mat out = cv::Mat::zeros(mask.size(), CV_8UC1);
+  // Without a usable depth image every pixel stays where it was.
+  const bool has_depth = !depth.empty() && depth.type() == CV_32FC1 && depth.size() == mask.size();
   const Eigen::Matrix3d R = T_t_k.linear();
   const Eigen::Vector3d t = T_t_k.translation();
   const double ifx = 1.0 / camera.fx, ify = 1.0 / camera.fy;
   for (int v = 0; v < mask.rows; ++v) {
     const auto* m = mask.ptr<std::uint8_t>(v);
-    const float* d = depth.ptr<float>(v);
+    const float* d = has_depth ? depth.ptr<float>(v) : nullptr;
     for (int u = 0; u < mask.cols; ++u) {
       if (m[u] == 0) continue;
       int ut = u, vt = v;
-      if (d[u] > 0.0f) {
+      if (d != nullptr && d[u] > 0.0f) {
         const Eigen::Vector3d p((u - camera.cx) * ifx * d[u], (v - camera.cy) * ify * d[u], d[u]);
         const Eigen::Vector3d q = R * p + t;
         if (q.z() <= 0.05) continue;

@@ -217,6 +217,10 @@ RunReport run_sequence(const RunOptions& o) {
     reference_extractor.emplace(cfg.features);
     report.flags.emplace();
   }
+  if (o.save_masks) {
+    fs::create_directories(*o.save_masks, ec);
+    if (ec) throw file_error(o.save_masks->string(), "cannot create the mask folder: " + ec.message());
+  }
   ProgressBar bar(frames.size(), o.progress);
   cv::Mat rgb, grey;
   std::vector<cv::KeyPoint> ref_kps;
@@ -228,6 +232,11 @@ RunReport run_sequence(const RunOptions& o) {
     const TrackResult r = slam.track_rgbd(rgb, f->depth, f->timestamp);
     report.log.push_back({f->index, f->timestamp, r.state, r.timing, r.inliers, r.dynamic.mask_frame,
                           r.dynamic.mask_age, r.dynamic.geometric_keypoints});
+    if (o.save_masks) {
+      const fs::path file = *o.save_masks / seq.entry(f->index).rgb_path.filename();
+      const cv::Mat m = r.dynamic.mask.empty() ? cv::Mat::zeros(f->rgb.size(), CV_8UC1) : r.dynamic.mask;
+      if (!cv::imwrite(file.string(), m)) throw file_error(file.string(), "cannot write the mask");
+    }
     if (report.flags && f->index % static_cast<std::size_t>(o.flag_eval_stride) == 0) {
       const fs::path mask_file = gt_masks / seq.entry(f->index).rgb_path.filename();
       const cv::Mat truth = cv::imread(mask_file.string(), cv::IMREAD_UNCHANGED);
@@ -307,6 +316,9 @@ RunReport run_sequence(const RunOptions& o) {
       report.ate_pairs = ate.stats.count;
       report.rpe_trans_rmse = rpe.trans.rmse;
       report.rpe_rot_rmse = rpe.rot.rmse;
+      report.ate = ate.stats;
+      report.rpe_trans = rpe.trans;
+      report.rpe_rot = rpe.rot;
     } catch (const Error& e) {
       spdlog::warn("no ATE/RPE: {} vs {}: {}", (o.out / "CameraTrajectory.txt").string(),
                    seq.groundtruth_path()->string(), e.what());

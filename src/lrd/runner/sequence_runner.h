@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "lrd/config/config.h"
+#include "lrd/eval/statistics.h"
 #include "lrd/system.h"
 
 namespace lrd::runner {
@@ -25,6 +26,9 @@ struct RunOptions {
   std::optional<std::string> mode;       // static | semantic | geometric | full (else the config's)
   std::optional<std::string> segmenter;  // a segmenter preset (see segmenter_preset), else the config's
   std::size_t max_frames = 0;  // 0: all
+  // Writes each frame's final dynamic mask (255 = dynamic) here, named like its colour image, so
+  // the folder can be inspected or fed back as a `masks` backend cache.
+  std::optional<std::filesystem::path> save_masks;
   int flag_eval_stride = 5;    // with ground-truth masks: judge the dynamic flags on every n-th frame
   bool progress = true;        // progress bar on stderr
 };
@@ -96,6 +100,7 @@ struct RunReport {
   double rpe_trans_rmse = 0.0;  // m/s
   double rpe_rot_rmse = 0.0;    // deg/s
   std::size_t ate_pairs = 0;
+  eval::ErrorStats ate, rpe_trans, rpe_rot;  // full statistics (m; m/s and deg/s at delta 1 s)
 };
 
 [[nodiscard]] RunReport run_sequence(const RunOptions& options);

@@ -21,7 +21,7 @@ MaskFolderSegmenter::MaskFolderSegmenter(const MaskFolderParams& params) : param
     const std::string stem = entry.path().stem().string();
     double t = 0.0;
     const auto [end, err] = std::from_chars(stem.data(), stem.data() + stem.size(), t);
-    if (err != std::errc() || end != stem.data() + stem.size()) continue;  // not a timestamp name
+    if (err != std::errc() || end != stem.data() + stem.size() || !std::isfinite(t)) continue;  // not a timestamp
     files_.emplace(t, entry.path());
   }
   if (ec) throw file_error(params_.folder, "cannot list the mask folder: " + ec.message());

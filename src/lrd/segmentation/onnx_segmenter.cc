@@ -30,7 +30,12 @@ OnnxSegmenter::OnnxSegmenter(const OnnxParams& params) : params_(params) {
   net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
   is_dynamic_.assign(std::max<std::size_t>(params_.classes.size(), 1), 0);
-  for (int id : params_.dynamic_ids) is_dynamic_[static_cast<std::size_t>(id)] = 1;
+  for (int id : params_.dynamic_ids) {
+    if (id < 0 || static_cast<std::size_t>(id) >= is_dynamic_.size())
+      throw file_error(params_.model, fmt::format("dynamic class index {} is not among the {} classes", id,
+                                                  params_.classes.size()));
+    is_dynamic_[static_cast<std::size_t>(id)] = 1;
+  }
   // One forward pass on a grey image: the output must fit the configured layout.
   const cv::Mat probe(params_.input_height, params_.input_width, CV_8UC3, cv::Scalar(128, 128, 128));
   check_output(forward(probe, true));

@@ -106,7 +106,11 @@ SegmentationParams SegmentationParams::from_config(config::NodeReader r, const f
     config::NodeReader m = r.section("masks");
     p.masks.folder = resolve(m.get<fs::path>("folder", fs::path{}), base_dir);
     p.masks.dynamic_values = m.get("dynamic_values", p.masks.dynamic_values);
+    m.check(std::all_of(p.masks.dynamic_values.begin(), p.masks.dynamic_values.end(),
+                        [](int v) { return v >= 0 && v <= 255; }),
+            "dynamic_values", "must be pixel values in [0, 255]");
     p.masks.max_time_difference = m.get("max_time_difference", p.masks.max_time_difference);
+    m.check(p.masks.max_time_difference >= 0, "max_time_difference", "must be >= 0");
     m.finish();
   }
   r.finish();

@@ -70,9 +70,14 @@ void SegmentationWorker::run() {
       const auto t0 = std::chrono::steady_clock::now();
       result.mask = segmenter_->segment(req.rgb, rgb_order_, req.timestamp);
       result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    } catch (...) {
+    } catch (const Error&) {
       std::lock_guard lock(mutex_);
       error_ = std::current_exception();
+      result_ready_.notify_all();
+      return;
+    } catch (const std::exception& e) {
+      std::lock_guard lock(mutex_);
+      error_ = std::make_exception_ptr(Error(segmenter_->describe() + ": " + e.what()));
       result_ready_.notify_all();
       return;
     }

@@ -1,0 +1,250 @@
+// Dynamic-scene benchmark (issue: dynamic scenes): every mode over the walking, sitting and
+// walking_pushed presets in one go, written as the paper's tables — Tables 4-7 (ATE, RPE
+// translation, RPE rotation: RMSE / mean / median / std per mode), Table 10 (mean and median
+// time per frame per mode, also as multiples of the yardstick Y) and the improvement rate
+// eta = (static - mode) / static (Eq. 12) — as Markdown and JSON, plus the dynamic keypoint
+// flags' precision and recall against the ground-truth masks.
+//
+//   bench_dynamic [--presets a,b] [--modes static,semantic,geometric,full] [--segmenter NAME]
+//                 [--sync] [--frames N] [--cache DIR] [--out DIR]
+//
+// --segmenter: fnet (our shipped model) when models/fnet-lite.onnx exists, else gt-masks (the
+// benchmark's ground truth for people: the upper bound a network can reach). --sync adds a
+// `full` run with the paper's synchronous schedule next to the default asynchronous one.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench/sequence_cache.h"
+#include "lrd/eval/improvement.h"
+#include "lrd/runner/sequence_runner.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Cell {
+  std::string preset, mode;
+  double y_ms = 0.0;
+  lrd::runner::RunReport report;
+};
+
+nlohmann::json stats_json(const lrd::eval::ErrorStats& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std_dev}};
+}
+
+// One of Tables 4-7: rows = presets, per mode four columns (RMSE, mean, median, std) in `unit`.
+std::string error_table(const std::string& title, const std::vector<std::string>& presets,
+                        const std::vector<std::string>& modes, const std::map<std::string, Cell>& cells,
+                        const lrd::eval::ErrorStats lrd::runner::RunReport::*field, double scale) {
+  std::ostringstream md;
+  md << "### " << title << "\n\n| sequence |";
+  for (const auto& m : modes) md << " " << m << " RMSE | mean | median | std |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < modes.size(); ++i) md << "---|---|---|---|";
+  md << "\n";
+  for (const auto& p : presets) {
+    md << "| " << p << " |";
+    for (const auto& m : modes) {
+      const auto it = cells.find(p + "/" + m);
+      if (it == cells.end() || !it->second.report.has_ground_truth) {
+        md << " – | – | – | – |";
+        continue;
+      }
+      const auto& s = it->second.report.*field;
+      md << fmt::format(" {:.4f} | {:.4f} | {:.4f} | {:.4f} |", scale * s.rmse, scale * s.mean, scale * s.median,
+                        scale * s.std_dev);
+    }
+    md << "\n";
+  }
+  return md.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Dynamic-scene benchmark: all modes over walking, sitting and walking_pushed (paper Tables 4-7, 10)"};
+  std::vector<std::string> presets{"walking_static",     "walking_xyz",    "walking_rpy",
+                                   "walking_halfsphere", "sitting_static", "sitting_xyz",
+                                   "sitting_halfsphere", "walking_pushed"};
+  std::vector<std::string> modes{"static", "semantic", "geometric", "full"};
+  std::string cache = "out/bench/sequences", out_dir = "out/bench/dynamic", segmenter;
+  int frames = -1;
+  bool sync = false;
+  app.add_option("--presets", presets, "Comma-separated presets")->delimiter(',');
+  app.add_option("--modes", modes, "Comma-separated modes")->delimiter(',');
+  app.add_option("--segmenter", segmenter, "Segmentation preset (default: fnet if shipped, else gt-masks)");
+  app.add_flag("--sync", sync, "Also run `full` with the synchronous schedule (mode `full-sync`)");
+  app.add_option("--frames", frames, "Frames per sequence (default: the preset's length)");
+  app.add_option("--cache", cache, "Where generated sequences are kept");
+  app.add_option("--out", out_dir, "Where tables.md, results.json and the runs go");
+  CLI11_PARSE(app, argc, argv);
+  if (segmenter.empty()) segmenter = fs::exists("models/fnet-lite.onnx") ? "fnet" : "gt-masks";
+  if (sync) modes.push_back("full-sync");
+
+  std::map<std::string, Cell> cells;
+  std::printf("segmenter: %s\n%-19s %-10s %6s %5s %9s %9s %9s %8s %8s %8s %7s %7s\n", segmenter.c_str(), "preset",
+              "mode", "frames", "lost", "ATE cm", "RPEt cm/s", "RPEr d/s", "med ms", "mean ms", "med/Y", "prec",
+              "recall");
+  try {
+    for (const std::string& preset : presets) {
+      const fs::path dir = lrd::bench::ensure_sequence(cache, preset, frames);
+      const double y = lrd::bench::sequence_yardstick_ms(dir);
+      for (const std::string& mode : modes) {
+        lrd::runner::RunOptions o;
+        o.sequence = dir;
+        o.out = fs::path(out_dir) / "runs" / preset / mode;
+        o.progress = false;
+        const bool full_sync = mode == "full-sync";
+        o.mode = full_sync ? "full" : mode;
+        o.segmenter = (mode == "static" || mode == "geometric") ? "none" : segmenter;
+        std::optional<fs::path> sync_config;
+        if (full_sync) {
+          fs::create_directories(o.out);
+          sync_config = o.out / "sync.yaml";
+          std::ofstream(*sync_config) << "segmentation:\n  schedule: sync\n";
+          o.config = sync_config;
+        }
+        Cell c{preset, mode, y, lrd::runner::run_sequence(o)};
+        const auto& r = c.report;
+        std::printf("%-19s %-10s %6zu %5zu %9.2f %9.2f %9.3f %8.1f %8.1f %8.2f %7s %7s\n", preset.c_str(),
+                    mode.c_str(), r.frames, r.lost, 100 * r.ate_rmse, 100 * r.rpe_trans_rmse, r.rpe_rot_rmse,
+                    r.total.median_ms, r.total.mean_ms, r.total.median_ms / y,
+                    r.flags && mode != "static" ? fmt::format("{:.3f}", r.flags->precision()).c_str() : "-",
+                    r.flags && mode != "static" ? fmt::format("{:.3f}", r.flags->recall()).c_str() : "-");
+        std::fflush(stdout);
+        cells.emplace(preset + "/" + mode, std::move(c));
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_dynamic: %s\n", e.what());
+    return 1;
+  }
+
+  std::ostringstream md;
+  md << "# Dynamic-scene benchmark\n\nSegmenter: `" << segmenter << "`. Synthetic presets, seed 1"
+     << (frames > 0 ? fmt::format(", first {} frames", frames) : std::string(", default lengths"))
+     << ". Time per frame excludes PNG decoding; Y = median `cv::ORB` detectAndCompute on the same frames.\n\n";
+  using RR = lrd::runner::RunReport;
+  md << error_table("Table 4-5: ATE (m)", presets, modes, cells, &RR::ate, 1.0) << "\n";
+  md << error_table("Table 6: RPE translation (m/s)", presets, modes, cells, &RR::rpe_trans, 1.0) << "\n";
+  md << error_table("Table 7: RPE rotation (deg/s)", presets, modes, cells, &RR::rpe_rot, 1.0) << "\n";
+
+  md << "### Improvement rate eta over `static` (ATE RMSE / RPE trans RMSE / RPE rot RMSE, %)\n\n| sequence |";
+  for (const auto& m : modes)
+    if (m != "static") md << " " << m << " |";
+  md << "\n|---|";
+  for (const auto& m : modes)
+    if (m != "static") md << "---|";
+  md << "\n";
+  nlohmann::json js;
+  js["segmenter"] = segmenter;
+  for (const auto& p : presets) {
+    md << "| " << p << " |";
+    const auto base = cells.find(p + "/static");
+    for (const auto& m : modes) {
+      if (m == "static") continue;
+      const auto it = cells.find(p + "/" + m);
+      if (base == cells.end() || it == cells.end()) {
+        md << " – |";
+        continue;
+      }
+      const RR& b = base->second.report;
+      const RR& r = it->second.report;
+      md << fmt::format(" {:.1f} / {:.1f} / {:.1f} |", lrd::eval::improvement_percent(b.ate.rmse, r.ate.rmse),
+                        lrd::eval::improvement_percent(b.rpe_trans.rmse, r.rpe_trans.rmse),
+                        lrd::eval::improvement_percent(b.rpe_rot.rmse, r.rpe_rot.rmse));
+    }
+    md << "\n";
+  }
+
+  md << "\n### Table 10: time per frame (ms; multiples of Y)\n\n| sequence | Y (ms) |";
+  for (const auto& m : modes) md << " " << m << " mean | median |";
+  md << "\n|---|---|";
+  for (std::size_t i = 0; i < modes.size(); ++i) md << "---|---|";
+  md << "\n";
+  for (const auto& p : presets) {
+    const auto any = cells.find(p + "/" + modes.front());
+    md << "| " << p << " | " << (any != cells.end() ? fmt::format("{:.1f}", any->second.y_ms) : "–") << " |";
+    for (const auto& m : modes) {
+      const auto it = cells.find(p + "/" + m);
+      if (it == cells.end()) {
+        md << " – | – |";
+        continue;
+      }
+      const RR& r = it->second.report;
+      const double y = it->second.y_ms;
+      md << fmt::format(" {:.1f} ({:.2f} Y) | {:.1f} ({:.2f} Y) |", r.total.mean_ms, r.total.mean_ms / y,
+                        r.total.median_ms, r.total.median_ms / y);
+    }
+    md << "\n";
+  }
+
+  md << "\n### Dynamic keypoint flags vs ground-truth masks (precision / recall; moved objects: recall)\n\n"
+        "| sequence |";
+  for (const auto& m : modes)
+    if (m != "static") md << " " << m << " |";
+  md << "\n|---|";
+  for (const auto& m : modes)
+    if (m != "static") md << "---|";
+  md << "\n";
+  for (const auto& p : presets) {
+    md << "| " << p << " |";
+    for (const auto& m : modes) {
+      if (m == "static") continue;
+      const auto it = cells.find(p + "/" + m);
+      if (it == cells.end() || !it->second.report.flags) {
+        md << " – |";
+        continue;
+      }
+      const auto& f = *it->second.report.flags;
+      md << fmt::format(" {:.3f} / {:.3f}{} |", f.precision(), f.recall(),
+                        f.moved_object > 0 ? fmt::format("; {:.3f}", f.moved_object_recall()) : "");
+    }
+    md << "\n";
+  }
+
+  for (const auto& [key, c] : cells) {
+    const RR& r = c.report;
+    nlohmann::json j = {{"preset", c.preset},
+                        {"mode", c.mode},
+                        {"frames", r.frames},
+                        {"lost", r.lost},
+                        {"keyframes", r.map.keyframes},
+                        {"y_ms", c.y_ms},
+                        {"time_ms", {{"mean", r.total.mean_ms}, {"median", r.total.median_ms}}},
+                        {"time_y", {{"mean", r.total.mean_ms / c.y_ms}, {"median", r.total.median_ms / c.y_ms}}},
+                        {"segmentation", r.segmentation},
+                        {"mean_mask_age", r.mean_mask_age}};
+    if (r.has_ground_truth) {
+      j["ate_m"] = stats_json(r.ate);
+      j["rpe_trans_m_per_s"] = stats_json(r.rpe_trans);
+      j["rpe_rot_deg_per_s"] = stats_json(r.rpe_rot);
+    }
+    if (r.flags)
+      j["flags"] = {{"precision", r.flags->precision()},
+                    {"recall", r.flags->recall()},
+                    {"moved_object_recall", r.flags->moved_object_recall()}};
+    const auto base = cells.find(c.preset + "/static");
+    if (base != cells.end() && c.mode != "static" && r.has_ground_truth)
+      j["eta_percent"] = {
+          {"ate_rmse", lrd::eval::improvement_percent(base->second.report.ate.rmse, r.ate.rmse)},
+          {"rpe_trans_rmse", lrd::eval::improvement_percent(base->second.report.rpe_trans.rmse, r.rpe_trans.rmse)},
+          {"rpe_rot_rmse", lrd::eval::improvement_percent(base->second.report.rpe_rot.rmse, r.rpe_rot.rmse)}};
+    js["runs"].push_back(j);
+  }
+  fs::create_directories(out_dir);
+  std::ofstream(fs::path(out_dir) / "tables.md") << md.str();
+  std::ofstream(fs::path(out_dir) / "results.json") << js.dump(2) << "\n";
+  std::printf("wrote %s/tables.md and %s/results.json\n", out_dir.c_str(), out_dir.c_str());
+  return 0;
+}

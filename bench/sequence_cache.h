@@ -1,0 +1,44 @@
+#pragma once
+// Benchmarks' synthetic sequences: generated once into a cache folder (seed 1), and the
+// yardstick Y measured on each sequence's own grey frames.
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+
+#include "bench/yardstick.h"
+#include "lrd/io/tum_sequence.h"
+#include "lrd/synth/sequence_writer.h"
+#include "lrd/synth/synthetic_sequence.h"
+
+namespace lrd::bench {
+
+// cache/PRESET (or cache/PRESET_FRAMES for a prefix), rendered when absent.
+inline std::filesystem::path ensure_sequence(const std::filesystem::path& cache, const std::string& preset,
+                                             int frames) {
+  const std::filesystem::path dir = cache / (frames > 0 ? fmt::format("{}_{}", preset, frames) : preset);
+  if (std::filesystem::exists(dir / "associations.txt")) return dir;
+  std::fprintf(stderr, "generating %s into %s ...\n", preset.c_str(), dir.string().c_str());
+  lrd::synth::SynthOptions o;
+  o.preset = preset;
+  o.seed = 1;
+  o.frames = frames;
+  const lrd::synth::SyntheticSequence seq(o);
+  (void)lrd::synth::write_sequence(seq, dir);
+  return dir;
+}
+
+// Y on (up to) 100 evenly spread grey frames of the sequence in `dir`.
+inline double sequence_yardstick_ms(const std::filesystem::path& dir) {
+  const auto seq = lrd::io::TumSequence::open(dir);
+  std::vector<cv::Mat> grey;
+  const std::size_t step = std::max<std::size_t>(1, seq.size() / 100);
+  for (std::size_t i = 0; i < seq.size(); i += step)
+    grey.push_back(cv::imread(seq.entry(i).rgb_path.string(), cv::IMREAD_GRAYSCALE));
+  return yardstick_ms(grey);
+}
+
+}  // namespace lrd::bench
