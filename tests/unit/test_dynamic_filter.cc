@@ -190,6 +190,26 @@ TEST(MaskPropagator, PixelsWithoutDepthStayAndPointsBehindVanish) {
   EXPECT_EQ(cv::countNonZero(out_of_view), cv::countNonZero(out_of_view(no_depth + cv::Size(1, 1))));
 }
 
+// Radii from 12 up (masks grown with age) are dilated at half resolution: the disc is covered,
+// and the edge may overshoot by a few pixels (2x2 blocks, rounding).
+TEST(MaskPropagator, LargeDilationCoversTheDiscWithinAFewPixels) {
+  for (const int radius : {12, 20, 31}) {
+    SCOPED_TRACE(radius);
+    cv::Mat mask = cv::Mat::zeros(120, 160, CV_8UC1);
+    mask.at<std::uint8_t>(60, 81) = 255;
+    lrd::dynamic::dilate_mask(mask, radius);
+    for (int v = 0; v < mask.rows; ++v)
+      for (int u = 0; u < mask.cols; ++u) {
+        const double d = std::hypot(u - 81, v - 60);
+        if (d <= radius) {
+          EXPECT_EQ(mask.at<std::uint8_t>(v, u), 255) << u << "," << v;
+        } else if (d > radius + 6.0) {
+          EXPECT_EQ(mask.at<std::uint8_t>(v, u), 0) << u << "," << v;
+        }
+      }
+  }
+}
+
 TEST(MaskPropagator, DilateMaskGrowsByADiscOfTheRadius) {
   for (const int radius : {1, 3, 7}) {
     SCOPED_TRACE(radius);

@@ -125,6 +125,9 @@ def parse_args(argv=None):
     ap.add_argument("--resume", help="checkpoint to resume from (e.g. OUT/last.pt)")
     ap.add_argument("--device", default="cpu", choices=["cpu", "cuda"])
     ap.add_argument("--input-size", type=parse_size, default=(320, 240), help="WxH crop size")
+    ap.add_argument("--scale-range", type=float, nargs=2, default=(0.5, 2.0), metavar=("MIN", "MAX"),
+                    help="random image scale before the crop (0.5 2.0: VOC practice; for 640x480 frames "
+                         "that the model sees resized to 320x240, about 0.45 1.0 matches inference)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--workers", type=int, default=0)
     ap.add_argument("--threads", type=int, default=1, help="torch CPU threads")
@@ -158,7 +161,8 @@ def main(argv=None) -> int:
     train_ids, val_ids = split_ids(args.voc, args.val_fraction, args.seed)
     if not train_ids:
         raise SystemExit(f"{args.voc}: no training images")
-    train_ds = VOCSegmentation(args.voc, train_ids, args.input_size, Augment(args.input_size), args.seed)
+    train_ds = VOCSegmentation(args.voc, train_ids, args.input_size,
+                               Augment(args.input_size, scale=tuple(args.scale_range)), args.seed)
     val_ds = VOCSegmentation(args.voc, val_ids, args.input_size, None, args.seed)
     loss_fn = nn.CrossEntropyLoss(ignore_index=IGNORE)
     optimizer = torch.optim.Adam(model.parameters(), lr=args.lr)  # frozen params get no grad: skipped
