@@ -3,6 +3,7 @@
 // these from the benchmark's evaluation seed 1. Bar (issue 6): person IoU >= 0.8.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 
 #include "lrd/runner/sequence_runner.h"
@@ -47,6 +48,8 @@ TEST(FnetModel, PersonIouOnHeldOutSyntheticFrames) {
   }
   ASSERT_GT(union_, 0u);
   const double iou = static_cast<double>(intersection) / static_cast<double>(union_);
+  std::printf("[   info   ] held-out person IoU %.3f, people covered by the dynamic mask %.3f\n", iou,
+              static_cast<double>(dynamic_hits) / static_cast<double>(dynamic_truth));
   EXPECT_GE(iou, 0.8) << "person IoU " << iou;
   // The dynamic mask the tracker gets covers the people.
   EXPECT_GE(static_cast<double>(dynamic_hits) / static_cast<double>(dynamic_truth), 0.8);

@@ -41,7 +41,7 @@ struct GeometryCheckParams {
 };
 
 struct DynamicParams {
-  // Until a segmentation model ships, the default needs none (the geometry check alone).
+  // The default needs no model (the shipped FNet-lite knows only synthetic renders).
   DynamicMode mode = DynamicMode::Geometric;
   GeometryCheckParams geometry;
 
