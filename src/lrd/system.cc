@@ -112,8 +112,10 @@ struct System::Impl {
   // newest within the wait bound, carried over from its frame). Empty when none is ready.
   cv::Mat semantic_mask(std::uint64_t id, DynamicInfo& info, double& segmentation_seconds) {
     const bool sync = segmentation_params.schedule == segmentation::Schedule::Sync;
-    const auto result =
-        worker->wait(id, sync ? std::nullopt : std::optional<double>(segmentation_params.max_wait_ms / 1000.0));
+    // A frame the network was not given (async stride) takes the newest mask without waiting.
+    const bool submitted = sync || id % static_cast<std::uint64_t>(segmentation_params.stride) == 0;
+    const auto result = worker->wait(
+        id, sync ? std::nullopt : std::optional<double>(submitted ? segmentation_params.max_wait_ms / 1000.0 : 0.0));
     if (!result) return {};
     cv::Mat mask = result->mask.clone();  // dilated in place below; the worker keeps its copy
     const auto age = static_cast<int>(id - result->frame_id);
@@ -203,7 +205,9 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
   const std::uint64_t id = s.next_frame_id++;
   // The network starts on this frame now and runs while the features are found (Fig. 1).
   // A copy: the caller may reuse its buffer while the network still reads this one.
-  if (s.worker) s.worker->submit(id, timestamp, rgb.clone());
+  if (s.worker && (s.segmentation_params.schedule == segmentation::Schedule::Sync ||
+                   id % static_cast<std::uint64_t>(s.segmentation_params.stride) == 0))
+    s.worker->submit(id, timestamp, rgb.clone());
   cv::Mat grey;
   if (rgb.channels() == 3) cv::cvtColor(rgb, grey, cam.rgb_order ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
   else grey = rgb;

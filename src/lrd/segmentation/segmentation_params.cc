@@ -59,6 +59,8 @@ SegmentationParams SegmentationParams::from_config(config::NodeReader r, const f
   p.schedule = parse_choice<Schedule>(r, "schedule", "async", {{"async", Schedule::Async}, {"sync", Schedule::Sync}});
   p.max_wait_ms = r.get("max_wait_ms", p.max_wait_ms);
   r.check(p.max_wait_ms >= 0, "max_wait_ms", "must be >= 0");
+  p.stride = r.get("stride", p.stride);
+  r.check(p.stride >= 1 && p.stride <= 30, "stride", "must be in [1, 30]");
   p.dilation_px = r.get("dilation_px", p.dilation_px);
   r.check(p.dilation_px >= 0 && p.dilation_px <= 100, "dilation_px", "must be in [0, 100]");
   p.age_dilation_px = r.get("age_dilation_px", p.age_dilation_px);

@@ -46,6 +46,7 @@ struct SegmentationParams {
   Backend backend = Backend::None;
   Schedule schedule = Schedule::Async;
   double max_wait_ms = 10.0;  // async: longest wait for the current frame's mask
+  int stride = 1;             // async: the network gets every stride-th frame (others: carried masks)
   int dilation_px = 7;        // masks grow by this radius (people's outlines, blur)
   // async: extra dilation per frame of mask age (motion the propagation cannot predict), capped.
   double age_dilation_px = 4.0;
