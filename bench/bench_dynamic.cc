@@ -42,10 +42,10 @@ nlohmann::json stats_json(const lrd::eval::ErrorStats& s) {
   return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std_dev}};
 }
 
-// One of Tables 4-7: rows = presets, per mode four columns (RMSE, mean, median, std) in `unit`.
+// One of Tables 4-7: rows = presets, per mode four columns (RMSE, mean, median, std).
 std::string error_table(const std::string& title, const std::vector<std::string>& presets,
                         const std::vector<std::string>& modes, const std::map<std::string, Cell>& cells,
-                        const lrd::eval::ErrorStats lrd::runner::RunReport::*field, double scale) {
+                        const lrd::eval::ErrorStats lrd::runner::RunReport::*field) {
   std::ostringstream md;
   md << "### " << title << "\n\n| sequence |";
   for (const auto& m : modes) md << " " << m << " RMSE | mean | median | std |";
@@ -61,8 +61,7 @@ std::string error_table(const std::string& title, const std::vector<std::string>
         continue;
       }
       const auto& s = it->second.report.*field;
-      md << fmt::format(" {:.4f} | {:.4f} | {:.4f} | {:.4f} |", scale * s.rmse, scale * s.mean, scale * s.median,
-                        scale * s.std_dev);
+      md << fmt::format(" {:.4f} | {:.4f} | {:.4f} | {:.4f} |", s.rmse, s.mean, s.median, s.std_dev);
     }
     md << "\n";
   }
@@ -135,17 +134,21 @@ int main(int argc, char** argv) {
      << (frames > 0 ? fmt::format(", first {} frames", frames) : std::string(", default lengths"))
      << ". Time per frame excludes PNG decoding; Y = median `cv::ORB` detectAndCompute on the same frames.\n\n";
   using RR = lrd::runner::RunReport;
-  md << error_table("Table 4-5: ATE (m)", presets, modes, cells, &RR::ate, 1.0) << "\n";
-  md << error_table("Table 6: RPE translation (m/s)", presets, modes, cells, &RR::rpe_trans, 1.0) << "\n";
-  md << error_table("Table 7: RPE rotation (deg/s)", presets, modes, cells, &RR::rpe_rot, 1.0) << "\n";
+  md << error_table("Table 4-5: ATE (m)", presets, modes, cells, &RR::ate) << "\n";
+  md << error_table("Table 6: RPE translation (m/s)", presets, modes, cells, &RR::rpe_trans) << "\n";
+  md << error_table("Table 7: RPE rotation (deg/s)", presets, modes, cells, &RR::rpe_rot) << "\n";
 
+  // Column headers of the tables that compare each mode with `static`.
+  auto non_static_header = [&] {
+    for (const auto& m : modes)
+      if (m != "static") md << " " << m << " |";
+    md << "\n|---|";
+    for (const auto& m : modes)
+      if (m != "static") md << "---|";
+    md << "\n";
+  };
   md << "### Improvement rate eta over `static` (ATE RMSE / RPE trans RMSE / RPE rot RMSE, %)\n\n| sequence |";
-  for (const auto& m : modes)
-    if (m != "static") md << " " << m << " |";
-  md << "\n|---|";
-  for (const auto& m : modes)
-    if (m != "static") md << "---|";
-  md << "\n";
+  non_static_header();
   nlohmann::json js;
   js["segmenter"] = segmenter;
   for (const auto& p : presets) {
@@ -191,12 +194,7 @@ int main(int argc, char** argv) {
 
   md << "\n### Dynamic keypoint flags vs ground-truth masks (precision / recall; moved objects: recall)\n\n"
         "| sequence |";
-  for (const auto& m : modes)
-    if (m != "static") md << " " << m << " |";
-  md << "\n|---|";
-  for (const auto& m : modes)
-    if (m != "static") md << "---|";
-  md << "\n";
+  non_static_header();
   for (const auto& p : presets) {
     md << "| " << p << " |";
     for (const auto& m : modes) {

@@ -88,16 +88,14 @@ struct System::Impl {
           if (T) f.set_pose(*T);
         }
         const dynamic::GeometryCheckResult r = filter.check(f, current_depth, nearby);
-        if (spdlog::should_log(spdlog::level::trace)) {
-          const Eigen::Isometry3d T = f.T_wc();
-          const Eigen::Quaterniond q(T.linear());
-          spdlog::trace("first estimate {} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}", f.id(), T.translation().x(),
-                        T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w());
-        }
         if (r.flagged_keypoints > 0) f.remove_keypoints(r.dynamic);
         if (!r.mask.empty()) {
           if (f.dynamic_mask.empty()) f.dynamic_mask = r.mask;
-          else cv::bitwise_or(f.dynamic_mask, r.mask, f.dynamic_mask);  // a new buffer: the old one is shared
+          else {
+            cv::Mat merged;  // a new buffer: the frame's mask may share the caller's
+            cv::bitwise_or(f.dynamic_mask, r.mask, merged);
+            f.dynamic_mask = merged;
+          }
         }
         spdlog::debug("frame {}: geometry check: {} keyframes, {} judged, {} moving, {} skipped (parallax), {} "
                       "keypoints removed",

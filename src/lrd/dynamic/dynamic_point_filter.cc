@@ -6,8 +6,6 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
-#include <spdlog/spdlog.h>
-
 #include "lrd/data/frame.h"
 #include "lrd/dynamic/depth_region_grower.h"
 #include "lrd/dynamic/mask_propagator.h"
@@ -148,7 +146,6 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
       if (valid == 0 || closer < params_.neighbourhood_agreement * valid) continue;
       seeds.push_back({static_cast<float>(u), static_cast<float>(v), z_now});
       ++seeds_in[cell_of(u, v)];
-      spdlog::trace("seed kf {} frame {} u {} v {} z_proj {:.3f} z_now {:.3f}", kf->id(), frame.id(), u, v, z_proj, z_now);
     }
   }
   // A moving object makes most judged points around it closer than expected; plain occlusion at

@@ -72,16 +72,11 @@ segmentation::SegmentationParams segmenter_preset(const std::string& name, const
     p.masks.dynamic_values = name == "gt-masks" ? std::vector<int>{1} : std::vector<int>{1, 2};
   } else if (name == "fnet") {
     p.backend = Backend::Onnx;
-    p.onnx = segmentation::OnnxParams{};
-    p.onnx.model = "models/fnet-lite.onnx";
+    // The defaults of the `onnx` section are exactly our model's contract (VOC classes, RGB in [0, 1]).
+    p.onnx = segmentation::SegmentationParams::from_config(config::NodeReader()).onnx;
 #ifdef LRD_SOURCE_DIR
-    if (!fs::exists(p.onnx.model)) p.onnx.model = fs::path(LRD_SOURCE_DIR) / "models" / "fnet-lite.onnx";
+    if (!fs::exists(p.onnx.model)) p.onnx.model = fs::path(LRD_SOURCE_DIR) / p.onnx.model;
 #endif
-    p.onnx.classes = segmentation::voc_classes();
-    p.onnx.dynamic_classes = segmentation::voc_dynamic_classes();
-    for (const auto& c : p.onnx.dynamic_classes)
-      p.onnx.dynamic_ids.push_back(static_cast<int>(
-          std::find(p.onnx.classes.begin(), p.onnx.classes.end(), c) - p.onnx.classes.begin()));
   } else {
     throw Error("unknown segmenter '" + name + "' (choose none, gt-masks, gt-masks-all or fnet)");
   }
