@@ -13,11 +13,25 @@ namespace lrd::app {
 namespace {
 
 struct RunCli {
-  std::string sequence, settings, preset, config, out, mode, segmenter, save_masks;
+  std::string sequence, settings, preset, config, out, mode, segmenter, segmenter_model, save_masks, save_repaired;
+  bool dense = false;
   bool deterministic = false;
   bool quiet = false;
   std::size_t max_frames = 0;
 };
+
+void print_dense(const runner::DenseReport& d) {
+  std::printf("dense map: %zu points (merged in %.2f s); repair: %zu keyframes, %.1f %% of %zu dynamic pixels filled",
+              d.points, d.assemble_seconds, d.repair.keyframes, 100.0 * d.repair.fill_ratio(), d.repair.dynamic_pixels);
+  if (d.repair_median_depth_error)
+    std::printf(", median depth error %.1f mm vs the static scene", 1e3 * *d.repair_median_depth_error);
+  std::printf("\n");
+  if (d.map)
+    std::printf("dense map vs scene: %.2f %% of points farther than %.0f cm (ghosts), completeness %.1f %% of %zu "
+                "seen scene samples, median distance %.1f mm\n",
+                100.0 * d.map->ghost_ratio(), 100.0 * d.map->threshold, 100.0 * d.map->completeness(),
+                d.map->seen_samples, 1e3 * d.map->median_distance);
+}
 
 void print_report(const runner::RunOptions& o, const runner::RunReport& r) {
   std::printf("camera: %s\n", r.camera_source.c_str());
@@ -50,8 +64,9 @@ void print_report(const runner::RunOptions& o, const runner::RunReport& r) {
                 r.ate_median, r.ate_max, r.ate_pairs);
     std::printf("RPE RMSE: %.4f m/s  %.3f deg/s\n", r.rpe_trans_rmse, r.rpe_rot_rmse);
   }
-  std::printf("wrote %s/{CameraTrajectory.txt, KeyFrameTrajectory.txt, track_times.txt, summary.json}\n",
-              o.out.string().c_str());
+  if (r.dense) print_dense(*r.dense);
+  std::printf("wrote %s/{CameraTrajectory.txt, KeyFrameTrajectory.txt, track_times.txt, summary.json%s}\n",
+              o.out.string().c_str(), r.dense ? ", dense_map.ply, dense_map.png" : "");
 }
 
 }  // namespace
@@ -71,10 +86,18 @@ void register_run_command(CLI::App& app) {
                   "Dynamic-scene mode: static (ORB-SLAM2), semantic (LRD-SLAM P), geometric, full (LRD-SLAM C); "
                   "default: the config's dynamic.mode");
   cmd->add_option("--segmenter", cli->segmenter,
-                  "Segmentation preset: none, gt-masks (synthetic ground truth, people), gt-masks-all, fnet; "
-                  "default: the config's segmentation section");
+                  "Segmentation: none; gt-masks (synthetic ground truth, people), gt-masks-all; networks: fnet "
+                  "(ours, for the synthetic benchmark), selfie-landscape (real people; the default for real data), "
+                  "selfie, espnetv2-voc (needs --segmenter-model). Default: the config's segmentation section, "
+                  "or for semantic/full without one: fnet on synthetic sequences, selfie-landscape otherwise");
+  cmd->add_option("--segmenter-model", cli->segmenter_model, "The segmenter preset's ONNX file (overrides its default)");
   cmd->add_option("--save-masks", cli->save_masks,
                   "Write each frame's dynamic mask (PNG, named like its colour image) to this folder");
+  cmd->add_flag("--dense", cli->dense,
+                "Dense map: background repair of the keyframes and a coloured point cloud (dense_map.ply, "
+                "dense_map.png)");
+  cmd->add_option("--save-repaired", cli->save_repaired,
+                  "Write each keyframe's repaired colour and depth (with the originals) to this folder");
   cmd->add_option("--max-frames", cli->max_frames, "Stop after this many frames (0: all)");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->callback([cli] {
@@ -88,7 +111,10 @@ void register_run_command(CLI::App& app) {
     o.max_frames = cli->max_frames;
     if (!cli->mode.empty()) o.mode = cli->mode;
     if (!cli->segmenter.empty()) o.segmenter = cli->segmenter;
+    if (!cli->segmenter_model.empty()) o.segmenter_model = cli->segmenter_model;
     if (!cli->save_masks.empty()) o.save_masks = cli->save_masks;
+    if (!cli->save_repaired.empty()) o.save_repaired = cli->save_repaired;
+    o.dense = cli->dense;
     o.progress = !cli->quiet;
     const runner::RunReport r = runner::run_sequence(o);
     print_report(o, r);

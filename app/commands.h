@@ -8,5 +8,7 @@ namespace lrd::app {
 void register_synth_command(CLI::App& app);
 void register_eval_command(CLI::App& app);
 void register_run_command(CLI::App& app);
+void register_segment_command(CLI::App& app);
+void register_eval_map_command(CLI::App& app);
 
 }  // namespace lrd::app

@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   lrd::app::register_synth_command(app);
   lrd::app::register_eval_command(app);
   lrd::app::register_run_command(app);
+  lrd::app::register_segment_command(app);
+  lrd::app::register_eval_map_command(app);
 
   try {
     app.parse(argc, argv);

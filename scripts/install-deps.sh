@@ -12,6 +12,7 @@ PACKAGES=(
   # Python side (tests, reference evaluators, FNet training) — always /usr/bin/python3
   python3 python3-numpy python3-opencv python3-pytest python3-yaml
   python3-torch python3-onnx python3-pil  # FNet: training, ONNX export fix-up, VOC palette labels
+  python3-flatbuffers  # tools/tflite2onnx reads TFLite models (scripts/fetch-models.sh)
   # Real photographs used as textures by the synthetic benchmark (lrdslam synth)
   opencv-doc gnome-backgrounds mate-backgrounds
 )
@@ -22,6 +23,10 @@ for p in "${PACKAGES[@]}"; do
     missing+=("$p")
   fi
 done
+
+# npm fetches MediaPipe's selfie model (scripts/fetch-models.sh). Machines that already have
+# Node.js with npm keep theirs; Debian's npm package is the fallback.
+if ! command -v npm >/dev/null 2>&1; then missing+=(npm); fi
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#PACKAGES[@]} packages already installed"

@@ -9,6 +9,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-out/default}
 bash scripts/install-deps.sh
+# The MediaPipe person models for real data (npm package, converted by tools/tflite2onnx into
+# data/models/). Without the npm registry their tests skip and their presets say how to get them.
+bash scripts/fetch-models.sh || echo "warning: scripts/fetch-models.sh failed; the selfie presets are unavailable" >&2
 cmake --preset release
 cmake --build --preset release -j "$(nproc)"
 BIN=build/release/bin/lrdslam

@@ -76,6 +76,10 @@ struct System::Impl {
       worker = std::make_unique<segmentation::SegmentationWorker>(make_segmenter(segmentation_params),
                                                                   segmentation_params.schedule, cfg.camera.rgb_order);
     }
+    dense::DenseParams dense_params = dense::DenseParams::from_config(cfg.dense);
+    if (opts.dense) dense_params.enabled = *opts.dense;
+    if (dense_params.enabled)
+      dense = std::make_unique<dense::DenseMapper>(map, cfg.camera, dense_params, !opts.deterministic);
     if (dynamic::uses_geometry(mode)) {
       tracker.set_dynamic_check([this](data::Frame& f, const std::vector<map::KeyFrame*>& nearby) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -144,6 +148,7 @@ struct System::Impl {
   tracking::Tracker tracker;
   dynamic::DynamicPointFilter filter;
   std::unique_ptr<segmentation::SegmentationWorker> worker;
+  std::unique_ptr<dense::DenseMapper> dense;  // before `map` is destroyed: it reads keyframe poses
   std::deque<RecentFrame> recent;
   cv::Mat current_depth;  // the frame being tracked, for the geometry check
   dynamic::GeometryCheckResult last_check;
@@ -162,6 +167,7 @@ void System::shutdown() {
   if (impl_->shut_down) return;
   if (impl_->worker) impl_->worker->shutdown();
   impl_->mapper.shutdown();
+  if (impl_->dense) impl_->dense->shutdown();
   impl_->shut_down = true;
 }
 
@@ -172,6 +178,18 @@ dynamic::DynamicMode System::mode() const { return impl_->dynamic_params.mode; }
 std::string System::segmentation_description() const {
   if (!impl_->worker) return "none";
   return impl_->worker->segmenter().describe() + ", " + segmentation::to_string(impl_->worker->schedule());
+}
+
+bool System::dense_enabled() const { return impl_->dense != nullptr; }
+
+dense::PointCloud System::dense_map() const { return impl_->dense ? impl_->dense->cloud() : dense::PointCloud{}; }
+
+dense::RepairTotals System::repair_totals() const {
+  return impl_->dense ? impl_->dense->repair_totals() : dense::RepairTotals{};
+}
+
+void System::set_repair_callback(dense::DenseMapper::RepairCallback callback) {
+  if (impl_->dense) impl_->dense->set_repair_callback(std::move(callback));
 }
 
 TrackingState System::state() const {
@@ -237,7 +255,20 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
   s.geometry_seconds = 0.0;
   result.state = s.tracker.track(frame, &wait);
   const auto t2 = Clock::now();
-  if (s.options.deterministic) s.mapper.process_queued();
+  // A new keyframe (this frame became the reference) goes to the dense stage with its images.
+  const tracking::FrameRecord& rec = s.tracker.records().back();
+  if (s.dense && rec.reference != nullptr && rec.reference->frame_id() == id) {
+    cv::Mat bgr;
+    if (rgb.channels() == 1) cv::cvtColor(rgb, bgr, cv::COLOR_GRAY2BGR);
+    else if (cam.rgb_order) cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+    else bgr = rgb.clone();
+    s.dense->add_keyframe(rec.reference, std::move(bgr), depth.type() == CV_32FC1 ? depth_m.clone() : depth_m,
+                          frame.dynamic_mask.empty() ? cv::Mat() : frame.dynamic_mask.clone());
+  }
+  if (s.options.deterministic) {
+    s.mapper.process_queued();
+    if (s.dense) s.dense->process_queued();
+  }
   const auto t3 = Clock::now();
 
   result.timing.extraction = seconds(t0, t1) - result.timing.mask_wait;
@@ -261,24 +292,12 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
   return result;
 }
 
-namespace {
-// Current world-to-camera pose of a frame recorded relative to `ref`, following the spanning tree
-// past keyframes removed since.
-Eigen::Isometry3d resolve(const map::KeyFrame* ref, Eigen::Isometry3d T_c_ref) {
-  while (ref->is_bad() && ref->parent() != nullptr) {
-    T_c_ref = T_c_ref * ref->T_c_parent();
-    ref = ref->parent();
-  }
-  return T_c_ref * ref->T_cw();
-}
-}  // namespace
-
 io::Trajectory System::trajectory() const {
   std::lock_guard lock(impl_->map.mutex());
   io::Trajectory out;
   for (const tracking::FrameRecord& r : impl_->tracker.records()) {
     if (r.state != TrackingState::Ok || r.reference == nullptr) continue;
-    out.push_back({r.timestamp, resolve(r.reference, r.T_c_ref).inverse()});
+    out.push_back({r.timestamp, map::resolve_pose(r.reference, r.T_c_ref).inverse()});
   }
   return out;
 }

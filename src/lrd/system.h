@@ -16,6 +16,7 @@
 #include <opencv2/core.hpp>
 
 #include "lrd/config/config.h"
+#include "lrd/dense/dense_mapper.h"
 #include "lrd/dynamic/dynamic_params.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/segmentation/segmentation_params.h"
@@ -34,6 +35,8 @@ struct SystemOptions {
   // --segmenter).
   std::optional<dynamic::DynamicMode> mode;
   std::optional<segmentation::SegmentationParams> segmentation;
+  // Replaces the config's dense.enabled (the CLI's --dense): background repair and the dense map.
+  std::optional<bool> dense;
 };
 
 // Where the time of one frame went, in seconds.
@@ -103,6 +106,15 @@ class System {
   [[nodiscard]] dynamic::DynamicMode mode() const;
   // "masks (seq/mask), async" or "none".
   [[nodiscard]] std::string segmentation_description() const;
+
+  // --- dense map (when dense.enabled or SystemOptions::dense)
+  [[nodiscard]] bool dense_enabled() const;
+  // The dense map at the keyframes' current poses (empty without the dense stage). Call after
+  // shutdown() for the complete map.
+  [[nodiscard]] dense::PointCloud dense_map() const;
+  [[nodiscard]] dense::RepairTotals repair_totals() const;
+  // Called in the dense thread after each keyframe's background repair; set before tracking.
+  void set_repair_callback(dense::DenseMapper::RepairCallback callback);
 
  private:
   struct Impl;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "lrd/config/config.h"
+#include "lrd/dense/dense_params.h"
 #include "lrd/dynamic/dynamic_params.h"
 #include "lrd/segmentation/segmentation_params.h"
 #include "lrd/mapping/local_mapper.h"
@@ -268,6 +269,39 @@ TEST_F(ConfigTest, ShippedDefaultDynamicAndSegmentationSectionsMatchCodeDefaults
   EXPECT_EQ(s.onnx.dynamic_ids, (std::vector<int>{15, 3, 8, 10, 12, 13, 17}));
   EXPECT_NEAR(s.onnx.scale, 1.0 / 255.0, 1e-15);
   EXPECT_TRUE(s.masks.dynamic_values.empty());
+  const auto dn = lrd::dense::DenseParams::from_config(cfg.dense);
+  const lrd::dense::DenseParams dn0;
+  EXPECT_EQ(dn.enabled, dn0.enabled);
+  EXPECT_DOUBLE_EQ(dn.voxel_size, dn0.voxel_size);
+  EXPECT_DOUBLE_EQ(dn.max_depth, dn0.max_depth);
+  EXPECT_EQ(dn.pixel_stride, dn0.pixel_stride);
+  EXPECT_DOUBLE_EQ(dn.depth_edge, dn0.depth_edge);
+  EXPECT_EQ(dn.repair.enabled, dn0.repair.enabled);
+  EXPECT_EQ(dn.repair.keyframes, dn0.repair.keyframes);
+  EXPECT_DOUBLE_EQ(dn.repair.max_depth, dn0.repair.max_depth);
+  EXPECT_DOUBLE_EQ(dn.repair.depth_edge, dn0.repair.depth_edge);
+  EXPECT_DOUBLE_EQ(dn.repair.surface_band, dn0.repair.surface_band);
+  EXPECT_EQ(dn.free_space.votes, dn0.free_space.votes);
+  EXPECT_DOUBLE_EQ(dn.free_space.margin, dn0.free_space.margin);
+  EXPECT_DOUBLE_EQ(dn.free_space.margin_ratio, dn0.free_space.margin_ratio);
+}
+
+TEST_F(ConfigTest, DenseKeysAreCheckedAndUnknownOnesRefused) {
+  const auto cfg = load_config(write("dn.yaml", "dense:\n  voxel_size: 0\n"));
+  try {
+    (void)lrd::dense::DenseParams::from_config(cfg.dense);
+    FAIL() << "voxel_size 0 accepted";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "dn.yaml:2")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "dense.voxel_size")) << e.what();
+  }
+  const auto typo = load_config(write("dt.yaml", "dense:\n  repair:\n    keyframe: 5\n"));
+  try {
+    (void)lrd::dense::DenseParams::from_config(typo.dense);
+    FAIL() << "unknown key accepted";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "dense.repair.keyframe")) << e.what();
+  }
 }
 
 TEST_F(ConfigTest, DynamicModeTypoIsAnErrorNamingTheChoices) {

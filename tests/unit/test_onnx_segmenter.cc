@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "lrd/segmentation/onnx_presets.h"
 #include "lrd/segmentation/onnx_segmenter.h"
 #include "lrd/segmentation/segmentation_params.h"
 #include "lrd/util/error.h"
@@ -43,23 +44,8 @@ fs::path shared_dir() {
 fs::path espnet_model() { return shared_dir() / "models/espnetv2_voc/espnetv2_s2.0_voc_384x288.onnx"; }
 fs::path selfie_model() { return shared_dir() / "models/mediapipe_selfie/selfie_segmentation_256x256.onnx"; }
 
-OnnxParams espnet_params() {
-  OnnxParams p;
-  p.model = espnet_model();
-  p.input_width = 384;
-  p.input_height = 288;
-  p.scale = 1.0 / 255.0;
-  p.mean = {0.485, 0.456, 0.406};
-  p.std = {0.229, 0.224, 0.225};
-  p.input_rgb = true;
-  p.output = OutputLayout::Logits;
-  p.classes = lrd::segmentation::voc_classes();
-  p.dynamic_classes = lrd::segmentation::voc_dynamic_classes();
-  for (const std::string& name : p.dynamic_classes)
-    p.dynamic_ids.push_back(
-        static_cast<int>(std::find(p.classes.begin(), p.classes.end(), name) - p.classes.begin()));
-  return p;
-}
+// Through the espnetv2-voc preset: the preset's pre-processing is what the reference used.
+OnnxParams espnet_params() { return lrd::segmentation::onnx_preset("espnetv2-voc", espnet_model()); }
 
 OnnxParams selfie_params() {
   OnnxParams p;

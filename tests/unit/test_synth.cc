@@ -246,7 +246,7 @@ TEST(SynthWriter, WritesTumLayoutDeterministicallyAndReadsBack) {
     const fs::path rel = fs::relative(e.path(), d1);
     EXPECT_EQ(lrd::test::TempDir::read(e.path()), lrd::test::TempDir::read(d2 / rel)) << rel;
   }
-  EXPECT_EQ(files, 6u * 5u + 6u);  // 5 images per frame; rgb/depth/associations, gt, settings, json
+  EXPECT_EQ(files, 6u * 5u + 7u);  // 5 images per frame; rgb/depth/associations, gt, settings, json, scene.ply
   // The project's own TUM reader associates it back frame for frame.
   const auto tum = lrd::io::TumSequence::open(d1);
   ASSERT_EQ(tum.size(), 6u);
@@ -262,4 +262,33 @@ TEST(SynthWriter, WritesTumLayoutDeterministicallyAndReadsBack) {
   cv::Mat expected;
   f.depth.convertTo(expected, CV_32F, 1.0 / 5000.0);
   EXPECT_LT(cv::norm(frame.depth, expected, cv::NORM_INF), 1e-6);
+}
+
+// scene.ply: samples on the static surfaces in the ground-truth world frame. Seen from a frame,
+// none may float in front of the surface the static depth image shows (free space), and many
+// lie on it.
+TEST(SynthScene, SamplesLieOnTheStaticSurfaces) {
+  const SyntheticSequence seq(options("walking_xyz", 3, 1));
+  const lrd::dense::PointCloud scene = seq.scene_samples();
+  ASSERT_GT(scene.size(), 100000u);
+  ASSERT_EQ(scene.colours.size(), scene.size());
+  const SynthFrame f = seq.render(0);
+  const Eigen::Isometry3f T_cw = f.pose.inverse().cast<float>();
+  const auto& cam = seq.camera();
+  int on_surface = 0, in_free_space = 0;
+  for (const Eigen::Vector3f& p : scene.points) {
+    EXPECT_TRUE(p.x() > -0.01f && p.x() < 6.01f && p.y() > -0.01f && p.y() < 5.01f && p.z() > -0.01f && p.z() < 3.01f)
+        << p.transpose();
+    const Eigen::Vector3f c = T_cw * p;
+    if (c.z() < 0.3f) continue;
+    const int u = static_cast<int>(std::lround(cam.fx * c.x() / c.z() + cam.cx));
+    const int v = static_cast<int>(std::lround(cam.fy * c.y() / c.z() + cam.cy));
+    if (u < 0 || v < 0 || u >= cam.width || v >= cam.height) continue;
+    const double z = f.static_depth.at<std::uint16_t>(v, u) / cam.depth_map_factor;
+    if (z <= 0) continue;
+    if (std::abs(z - c.z()) < 0.03 + 0.02 * z) ++on_surface;
+    else if (c.z() < z - 0.15) ++in_free_space;
+  }
+  EXPECT_GT(on_surface, 10000);
+  EXPECT_LT(in_free_space, on_surface / 200);
 }

@@ -194,4 +194,12 @@ void KeyFrame::set_bad() {
   map_->erase_keyframe(this);
 }
 
+Eigen::Isometry3d resolve_pose(const KeyFrame* kf, Eigen::Isometry3d T_c_kf) {
+  while (kf->is_bad() && kf->parent() != nullptr) {
+    T_c_kf = T_c_kf * kf->T_c_parent();
+    kf = kf->parent();
+  }
+  return T_c_kf * kf->T_cw();
+}
+
 }  // namespace lrd::map

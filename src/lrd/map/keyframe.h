@@ -108,4 +108,10 @@ class KeyFrame {
   Map* map_;
 };
 
+// Current world-to-camera pose of a camera recorded as T_c_kf relative to `kf`, following the
+// spanning tree past keyframes removed since (their parent-relative poses were kept). With the
+// default T_c_kf, the keyframe's own current pose. Call under Map::mutex().
+[[nodiscard]] Eigen::Isometry3d resolve_pose(const KeyFrame* kf,
+                                             Eigen::Isometry3d T_c_kf = Eigen::Isometry3d::Identity());
+
 }  // namespace lrd::map

@@ -12,13 +12,18 @@
 #include <opencv2/imgproc.hpp>
 
 #include "lrd/config/orbslam_settings.h"
+#include "lrd/dense/cloud_renderer.h"
+#include "lrd/dense/ply_io.h"
+#include "lrd/dynamic/dynamic_params.h"
 #include "lrd/eval/ate.h"
 #include "lrd/eval/rpe.h"
 #include "lrd/features/orb_extractor.h"
 #include "lrd/io/frame_prefetcher.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/io/tum_sequence.h"
+#include "lrd/runner/dense_evaluation.h"
 #include "lrd/runner/progress_bar.h"
+#include "lrd/segmentation/onnx_presets.h"
 #include "lrd/util/error.h"
 
 namespace lrd::runner {
@@ -61,7 +66,7 @@ config::Config resolve_config(const RunOptions& o, std::string* source) {
 }
 
 segmentation::SegmentationParams segmenter_preset(const std::string& name, const fs::path& sequence,
-                                                 segmentation::SegmentationParams p) {
+                                                 segmentation::SegmentationParams p, const fs::path& model) {
   using segmentation::Backend;
   if (name == "none") {
     p.backend = Backend::None;
@@ -70,17 +75,20 @@ segmentation::SegmentationParams segmenter_preset(const std::string& name, const
     p.masks.folder = sequence / "mask";
     // Synthetic mask values: 1 person, 2 moved object (sequence.json "mask_values").
     p.masks.dynamic_values = name == "gt-masks" ? std::vector<int>{1} : std::vector<int>{1, 2};
-  } else if (name == "fnet") {
+  } else if (segmentation::is_onnx_preset(name)) {
     p.backend = Backend::Onnx;
-    // The defaults of the `onnx` section are exactly our model's contract (VOC classes, RGB in [0, 1]).
-    p.onnx = segmentation::SegmentationParams::from_config(config::NodeReader()).onnx;
-#ifdef LRD_SOURCE_DIR
-    if (!fs::exists(p.onnx.model)) p.onnx.model = fs::path(LRD_SOURCE_DIR) / p.onnx.model;
-#endif
+    p.onnx = segmentation::onnx_preset(name, model);
   } else {
-    throw Error("unknown segmenter '" + name + "' (choose none, gt-masks, gt-masks-all or fnet)");
+    throw Error("unknown segmenter '" + name +
+                "' (choose none, gt-masks, gt-masks-all, fnet, selfie, selfie-landscape or espnetv2-voc)");
   }
   return p;
+}
+
+std::string default_segmenter(const fs::path& sequence) {
+  // Our synthetic benchmark writes sequence.json; FNet-lite was trained on its renders. Real
+  // camera data gets the network that knows real people.
+  return fs::exists(sequence / "sequence.json") ? "fnet" : "selfie-landscape";
 }
 
 double FlagScore::precision() const {
@@ -173,11 +181,61 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
                           {"moved_object_keypoints", r.flags->moved_object},
                           {"moved_object_recall", r.flags->moved_object_recall()}};
   }
+  if (r.dense) {
+    const DenseReport& d = *r.dense;
+    nlohmann::json repair = {{"keyframes", d.repair.keyframes},
+                             {"dynamic_pixels", d.repair.dynamic_pixels},
+                             {"filled_pixels", d.repair.filled_pixels},
+                             {"fill_ratio", d.repair.fill_ratio()}};
+    if (d.repair_median_depth_error) {
+      repair["median_depth_error"] = *d.repair_median_depth_error;
+      repair["compared_pixels"] = d.repair_compared_pixels;
+    }
+    j["dense"] = {{"points", d.points}, {"assemble_seconds", d.assemble_seconds}, {"repair", repair}};
+    if (d.map)
+      j["dense"]["map"] = {{"threshold", d.map->threshold},       {"map_points", d.map->map_points},
+                           {"ghost_points", d.map->ghost_points}, {"ghost_ratio", d.map->ghost_ratio()},
+                           {"median_distance", d.map->median_distance}, {"seen_samples", d.map->seen_samples},
+                           {"covered_samples", d.map->covered_samples}, {"completeness", d.map->completeness()}};
+  }
   std::ofstream out(file);
   out << j.dump(2) << '\n';
   out.close();
   if (!out) throw file_error(file.string(), "cannot write");
 }
+
+namespace {
+// Writes the dense map and its picture, and judges repair and map where the sequence has truth.
+DenseReport finish_dense(const System& slam, const RepairRecorder& repairs, const RunOptions& o,
+                         const io::Trajectory& trajectory, const camera::PinholeCamera& camera, double max_depth) {
+  DenseReport d;
+  const auto t0 = std::chrono::steady_clock::now();
+  const dense::PointCloud cloud = slam.dense_map();
+  d.assemble_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  d.points = cloud.size();
+  dense::write_ply(o.out / "dense_map.ply", cloud);
+  const io::Trajectory keyframes = slam.keyframe_trajectory();
+  if (!keyframes.empty() && cloud.size() > 0) {
+    const cv::Mat picture =
+        dense::render_cloud(cloud, camera, dense::overview_pose(cloud, keyframes.front().pose));
+    const fs::path png = o.out / "dense_map.png";
+    if (!cv::imwrite(png.string(), picture)) throw file_error(png, "cannot write");
+  }
+  d.repair = slam.repair_totals();
+  if (repairs.has_truth() && repairs.compared_pixels() > 0) {
+    d.repair_median_depth_error = repairs.median_depth_error();
+    d.repair_compared_pixels = repairs.compared_pixels();
+  }
+  if (fs::exists(o.sequence / "scene.ply") && trajectory.size() >= 2) {
+    try {
+      d.map = evaluate_dense_map(cloud, trajectory, o.sequence, camera, max_depth);
+    } catch (const Error& e) {
+      spdlog::warn("dense map not judged: {}", e.what());
+    }
+  }
+  return d;
+}
+}  // namespace
 
 RunReport run_sequence(const RunOptions& o) {
   RunReport report;
@@ -195,12 +253,26 @@ RunReport run_sequence(const RunOptions& o) {
   SystemOptions sopts;
   sopts.deterministic = o.deterministic;
   if (o.mode) sopts.mode = dynamic::parse_mode(*o.mode);
-  if (o.segmenter)
-    sopts.segmentation = segmenter_preset(
-        *o.segmenter, o.sequence,
-        segmentation::SegmentationParams::from_config(cfg.segmentation,
-                                                      cfg.file.empty() ? fs::path{} : cfg.file.parent_path()));
+  {
+    auto seg = segmentation::SegmentationParams::from_config(cfg.segmentation,
+                                                             cfg.file.empty() ? fs::path{} : cfg.file.parent_path());
+    // A mode that needs masks with no segmenter configured gets the default network for the data.
+    const dynamic::DynamicMode mode =
+        o.mode ? dynamic::parse_mode(*o.mode) : dynamic::DynamicParams::from_config(cfg.dynamic).mode;
+    std::optional<std::string> name = o.segmenter;
+    if (!name && dynamic::uses_segmentation(mode) && seg.backend == segmentation::Backend::None)
+      name = default_segmenter(o.sequence);
+    if (name) sopts.segmentation = segmenter_preset(*name, o.sequence, seg, o.segmenter_model.value_or(fs::path{}));
+  }
+  if (o.dense || o.save_repaired) sopts.dense = true;
   System slam(cfg, sopts);
+  std::optional<RepairRecorder> repairs;
+  if (slam.dense_enabled()) {
+    repairs.emplace(seq, cfg.camera.depth_map_factor, o.save_repaired);
+    slam.set_repair_callback([&repairs](double t, const dense::RgbdView& kf, const dense::RepairResult& r) {
+      repairs->record(t, kf, r);
+    });
+  }
   report.mode = dynamic::to_string(slam.mode());
   report.segmentation = slam.segmentation_description();
 
@@ -319,6 +391,8 @@ RunReport run_sequence(const RunOptions& o) {
                    seq.groundtruth_path()->string(), e.what());
     }
   }
+  if (slam.dense_enabled()) report.dense = finish_dense(slam, *repairs, o, trajectory, cfg.camera,
+                                                         dense::DenseParams::from_config(cfg.dense).max_depth);
   write_summary_json(o.out / "summary.json", report);
   return report;
 }

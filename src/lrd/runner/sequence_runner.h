@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "lrd/config/config.h"
+#include "lrd/eval/map_accuracy.h"
 #include "lrd/eval/statistics.h"
 #include "lrd/system.h"
 
@@ -25,10 +26,17 @@ struct RunOptions {
   bool deterministic = false;
   std::optional<std::string> mode;       // static | semantic | geometric | full (else the config's)
   std::optional<std::string> segmenter;  // a segmenter preset (see segmenter_preset), else the config's
+  std::optional<std::filesystem::path> segmenter_model;  // the preset's model file (espnetv2-voc needs it)
   std::size_t max_frames = 0;  // 0: all
   // Writes each frame's final dynamic mask (255 = dynamic) here, named like its colour image, so
   // the folder can be inspected or fed back as a `masks` backend cache.
   std::optional<std::filesystem::path> save_masks;
+  // Dense map (background repair + point cloud): writes dense_map.ply and dense_map.png, and judges
+  // the map against scene.ply when the sequence has one.
+  bool dense = false;
+  // Writes each repaired keyframe (colour, depth, mask; originals beside them) here; implies the
+  // dense stage's repair.
+  std::optional<std::filesystem::path> save_repaired;
   int flag_eval_stride = 5;    // with ground-truth masks: judge the dynamic flags on every n-th frame
   bool progress = true;        // progress bar on stderr
 };
@@ -44,11 +52,17 @@ struct RunOptions {
 //   gt-masks      the synthetic benchmark's ground truth, people only (what a semantic network
 //                 can know: a pushed chair is still a chair) — the upper bound for the network
 //   gt-masks-all  ground truth of everything that moves (people and moved objects)
-//   fnet          our FNet-lite through the onnx backend (models/fnet-lite.onnx)
+//   fnet, selfie, selfie-landscape, espnetv2-voc
+//                 the onnx presets (segmentation/onnx_presets.h); `model` overrides their file
 // Throws lrd::Error for an unknown name.
 [[nodiscard]] segmentation::SegmentationParams segmenter_preset(const std::string& name,
                                                                 const std::filesystem::path& sequence,
-                                                                segmentation::SegmentationParams base);
+                                                                segmentation::SegmentationParams base,
+                                                                const std::filesystem::path& model = {});
+
+// The segmenter a semantic/full run gets when none is configured: fnet for our synthetic
+// benchmark (it has sequence.json), selfie-landscape for real data.
+[[nodiscard]] std::string default_segmenter(const std::filesystem::path& sequence);
 
 struct FrameLog {
   std::size_t index = 0;
@@ -77,6 +91,15 @@ struct StageSummary {
   double mean_ms = 0.0;
 };
 
+struct DenseReport {
+  std::size_t points = 0;           // in dense_map.ply
+  double assemble_seconds = 0.0;    // merging the keyframes' clouds at their final poses
+  dense::RepairTotals repair;
+  std::optional<double> repair_median_depth_error;  // m, vs static/depth (synthetic benchmark)
+  std::size_t repair_compared_pixels = 0;
+  std::optional<eval::MapAccuracy> map;  // vs scene.ply (synthetic benchmark)
+};
+
 struct RunReport {
   std::string camera_source;
   std::size_t frames = 0;
@@ -101,6 +124,7 @@ struct RunReport {
   double rpe_rot_rmse = 0.0;    // deg/s
   std::size_t ate_pairs = 0;
   eval::ErrorStats ate, rpe_trans, rpe_rot;  // full statistics (m; m/s and deg/s at delta 1 s)
+  std::optional<DenseReport> dense;
 };
 
 [[nodiscard]] RunReport run_sequence(const RunOptions& options);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "lrd/segmentation/onnx_presets.h"
+
 namespace lrd::segmentation {
 
 namespace fs = std::filesystem;
@@ -54,7 +56,12 @@ Enum parse_choice(config::NodeReader& r, const std::string& key, const std::stri
 
 SegmentationParams SegmentationParams::from_config(config::NodeReader r, const fs::path& base_dir) {
   SegmentationParams p;
-  p.backend = parse_choice<Backend>(r, "backend", "none",
+  // A named onnx configuration (onnx_presets.h) supplies the backend and the onnx section's
+  // defaults; keys given in the onnx section still override it.
+  const auto preset = r.get<std::string>("preset", "");
+  r.check(preset.empty() || is_onnx_preset(preset), "preset",
+          "names no onnx preset (fnet, selfie, selfie-landscape, espnetv2-voc; got '" + preset + "')");
+  p.backend = parse_choice<Backend>(r, "backend", preset.empty() ? "none" : "onnx",
                                     {{"none", Backend::None}, {"onnx", Backend::Onnx}, {"masks", Backend::Masks}});
   p.schedule = parse_choice<Schedule>(r, "schedule", "async", {{"async", Schedule::Async}, {"sync", Schedule::Sync}});
   p.max_wait_ms = r.get("max_wait_ms", p.max_wait_ms);
@@ -71,7 +78,8 @@ SegmentationParams SegmentationParams::from_config(config::NodeReader r, const f
   {
     config::NodeReader o = r.section("onnx");
     OnnxParams& q = p.onnx;
-    q.model = resolve(o.get<fs::path>("model", "models/fnet-lite.onnx"), base_dir);
+    const fs::path model = resolve(o.get<fs::path>("model", fs::path{}), base_dir);
+    q = onnx_preset(preset.empty() ? "fnet" : preset, model);
     q.input_width = o.get("input_width", q.input_width);
     q.input_height = o.get("input_height", q.input_height);
     o.check(q.input_width >= 8 && q.input_width <= 4096, "input_width", "must be in [8, 4096]");
@@ -82,15 +90,17 @@ SegmentationParams SegmentationParams::from_config(config::NodeReader r, const f
     q.std = o.get("std", q.std);
     o.check(q.std.size() == 3 && std::all_of(q.std.begin(), q.std.end(), [](double s) { return s > 0; }), "std",
             "must have 3 positive values");
-    const auto order = o.get<std::string>("input_order", "rgb");
+    const auto order = o.get<std::string>("input_order", q.input_rgb ? "rgb" : "bgr");
     o.check(order == "rgb" || order == "bgr", "input_order", "must be rgb or bgr");
     q.input_rgb = order == "rgb";
-    q.output = parse_choice<OutputLayout>(o, "output", "logits",
+    const char* layouts[] = {"logits", "probability", "labels"};
+    q.output = parse_choice<OutputLayout>(o, "output", layouts[static_cast<int>(q.output)],
                                           {{"logits", OutputLayout::Logits},
                                            {"probability", OutputLayout::Probability},
                                            {"labels", OutputLayout::Labels}});
-    q.classes = o.get("classes", voc_classes());
-    q.dynamic_classes = o.get("dynamic_classes", voc_dynamic_classes());
+    q.classes = o.get("classes", q.classes);
+    q.dynamic_classes = o.get("dynamic_classes", q.dynamic_classes);
+    q.dynamic_ids.clear();
     q.threshold = o.get("threshold", q.threshold);
     o.check(q.threshold > 0 && q.threshold < 1, "threshold", "must be in (0, 1)");
     if (q.output == OutputLayout::Probability) {

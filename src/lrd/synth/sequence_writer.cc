@@ -12,6 +12,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "lrd/dense/ply_io.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/util/error.h"
 
@@ -103,6 +104,7 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
   }
   io::write_trajectory_tum(out / "groundtruth.txt", gt);
   write_orbslam_settings(out / "settings.yaml", seq.camera());
+  dense::write_ply(out / "scene.ply", seq.scene_samples());  // the static surfaces, to judge dense maps
 
   SynthSummary s;
   s.frames = n;

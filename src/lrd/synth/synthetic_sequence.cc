@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "lrd/synth/room_scene.h"
+#include "lrd/synth/scene_sampler.h"
 #include "lrd/util/error.h"
 
 namespace lrd::synth {
@@ -109,5 +110,7 @@ SynthFrame SyntheticSequence::render(int i) const {
   f.voc_class = full_pass.voc_class;
   return f;
 }
+
+dense::PointCloud SyntheticSequence::scene_samples() const { return sample_surfaces(room_, *textures_); }
 
 }  // namespace lrd::synth

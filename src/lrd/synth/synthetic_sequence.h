@@ -8,6 +8,7 @@
 #include <string>
 
 #include "lrd/camera/pinhole_camera.h"
+#include "lrd/dense/point_cloud.h"
 #include "lrd/synth/presets.h"
 #include "lrd/synth/rasterizer.h"
 #include "lrd/synth/sensor_model.h"
@@ -56,6 +57,8 @@ class SyntheticSequence {
   [[nodiscard]] Eigen::Isometry3d pose(int i) const;
   // Renders frame i (thread-safe).
   [[nodiscard]] SynthFrame render(int i) const;
+  // Samples of the static room's surfaces in world coordinates (scene.ply), about one per 4 cm^2.
+  [[nodiscard]] dense::PointCloud scene_samples() const;
 
   static constexpr double kFirstTimestamp = 1700000000.0;
   // Textures of the room do not depend on the sequence seed: every seed sees the same room.

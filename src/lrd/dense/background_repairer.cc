@@ -1,0 +1,94 @@
+#include "lrd/dense/background_repairer.h"
+
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+
+namespace lrd::dense {
+
+BackgroundRepairer::BackgroundRepairer(const camera::PinholeCamera& camera, const RepairParams& params)
+    : camera_(camera), params_(params) {}
+
+RepairResult BackgroundRepairer::repair(const RgbdView& target, const std::vector<const RgbdView*>& sources) const {
+  RepairResult r;
+  r.bgr = target.bgr.clone();
+  r.depth = target.depth.clone();
+  r.filled = cv::Mat::zeros(target.depth.size(), CV_8UC1);
+  if (target.dynamic.empty()) return r;
+  const cv::Mat& region = target.dynamic;
+  r.dynamic_pixels = cv::countNonZero(region);
+  if (r.dynamic_pixels == 0) return r;
+  const cv::Rect box = cv::boundingRect(region);
+  // The dynamic region starts empty; sources write into it nearest-first.
+  r.bgr.setTo(cv::Scalar::all(0), region);
+  r.depth.setTo(0.0f, region);
+  // Per pixel, the front surface seen so far: its nearest depth, and the sums of the samples
+  // within a band behind it. Averaging them (rather than keeping the nearest sample) removes the
+  // sensor noise's pull towards the camera that a plain minimum over many sources has.
+  cv::Mat zbuf(target.depth.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
+  cv::Mat zsum(target.depth.size(), CV_32F, cv::Scalar(0)), csum(target.depth.size(), CV_32FC3, cv::Scalar::all(0));
+  cv::Mat count(target.depth.size(), CV_32F, cv::Scalar(0));
+  const auto band = static_cast<float>(params_.surface_band);
+  const double fx = camera_.fx, fy = camera_.fy, cx = camera_.cx, cy = camera_.cy;
+  const int w = target.depth.cols, h = target.depth.rows;
+  for (const RgbdView* src : sources) {
+    if (src == nullptr || src->depth.empty()) continue;
+    const Eigen::Isometry3d T_ts = target.T_cw * src->T_cw.inverse();
+    const Eigen::Matrix3d R = T_ts.linear();
+    const Eigen::Vector3d t = T_ts.translation();
+    const bool src_masked = !src->dynamic.empty();
+    for (int v = 0; v < src->depth.rows; ++v) {
+      const float* zrow = src->depth.ptr<float>(v);
+      const unsigned char* mrow = src_masked ? src->dynamic.ptr<unsigned char>(v) : nullptr;
+      const cv::Vec3b* crow = src->bgr.ptr<cv::Vec3b>(v);
+      // The row's rays, so each pixel costs one scaled add and a projection.
+      const Eigen::Vector3d row_base = R * Eigen::Vector3d(-cx / fx, (v - cy) / fy, 1.0);
+      const Eigen::Vector3d du = R.col(0) / fx;
+      for (int u = 0; u < src->depth.cols; ++u) {
+        const float z = zrow[u];
+        if (z <= 0.0f || z > params_.max_depth || (mrow != nullptr && mrow[u] != 0)) continue;
+        const Eigen::Vector3d p = (row_base + du * u) * z + t;
+        if (p.z() < 0.05) continue;
+        const double pu = fx * p.x() / p.z() + cx, pv = fy * p.y() / p.z() + cy;
+        // The source pixel covers about a target pixel: splat it onto the 2x2 pixels around it,
+        // so a slight change of viewpoint leaves no cracks.
+        const int u0 = static_cast<int>(std::floor(pu - 0.5)), v0 = static_cast<int>(std::floor(pv - 0.5));
+        if (u0 + 1 < box.x || v0 + 1 < box.y || u0 >= box.x + box.width || v0 >= box.y + box.height) continue;
+        if (on_depth_edge(src->depth, u, v, params_.depth_edge)) continue;
+        const float zt = static_cast<float>(p.z());
+        for (int dv = 0; dv < 2; ++dv) {
+          const int tv = v0 + dv;
+          if (tv < 0 || tv >= h) continue;
+          for (int dx = 0; dx < 2; ++dx) {
+            const int tu = u0 + dx;
+            if (tu < 0 || tu >= w || region.at<unsigned char>(tv, tu) == 0) continue;
+            float& best = zbuf.at<float>(tv, tu);
+            if (zt > best * (1.0f + band)) continue;  // behind the front surface
+            float& n = count.at<float>(tv, tu);
+            float& sum = zsum.at<float>(tv, tu);
+            cv::Vec3f& c = csum.at<cv::Vec3f>(tv, tu);
+            if (zt < best * (1.0f - band)) n = 0.0f, sum = 0.0f, c = cv::Vec3f();  // a new front surface
+            best = std::min(best, zt);
+            n += 1.0f;
+            sum += zt;
+            c += cv::Vec3f(crow[u][0], crow[u][1], crow[u][2]);
+          }
+        }
+      }
+    }
+  }
+  r.filled = (count > 0.0f) & (region != 0);
+  for (int v = box.y; v < box.y + box.height; ++v)
+    for (int u = box.x; u < box.x + box.width; ++u) {
+      const float n = count.at<float>(v, u);
+      if (n <= 0.0f || region.at<unsigned char>(v, u) == 0) continue;
+      r.depth.at<float>(v, u) = zsum.at<float>(v, u) / n;
+      const cv::Vec3f c = csum.at<cv::Vec3f>(v, u) / n;
+      r.bgr.at<cv::Vec3b>(v, u) = cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
+                                            cv::saturate_cast<uchar>(c[2]));
+    }
+  r.filled_pixels = cv::countNonZero(r.filled);
+  return r;
+}
+
+}  // namespace lrd::dense

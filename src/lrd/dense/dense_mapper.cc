@@ -1,0 +1,186 @@
+#include "lrd/dense/dense_mapper.h"
+
+#include <spdlog/spdlog.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include "lrd/dense/voxel_grid.h"
+#include "lrd/map/keyframe.h"
+#include "lrd/map/map.h"
+
+namespace lrd::dense {
+
+DenseMapper::DenseMapper(map::Map& map, const camera::PinholeCamera& camera, const DenseParams& params, bool threaded)
+    : map_(map), camera_(camera), params_(params), repairer_(camera, params.repair) {
+  if (threaded) thread_ = std::thread([this] { run(); });
+}
+
+DenseMapper::~DenseMapper() { shutdown(); }
+
+void DenseMapper::add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat depth, cv::Mat dynamic) {
+  {
+    std::lock_guard lock(mutex_);
+    queue_.push_back({kf, RgbdView{std::move(bgr), std::move(depth), std::move(dynamic), {}}});
+  }
+  wake_.notify_one();
+}
+
+void DenseMapper::process_queued() {
+  for (;;) {
+    Pending p;
+    {
+      std::lock_guard lock(mutex_);
+      if (queue_.empty()) return;
+      p = std::move(queue_.front());
+      queue_.pop_front();
+    }
+    process(std::move(p));
+  }
+}
+
+void DenseMapper::shutdown() {
+  if (thread_.joinable()) {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+  }
+  process_queued();  // whatever arrived after the thread stopped, or everything when unthreaded
+}
+
+void DenseMapper::run() {
+  // Below tracking's priority: on a busy machine the map waits, the camera does not (Linux
+  // per-thread nice value; harmless where it is refused).
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10) != 0)
+    spdlog::debug("dense mapping: could not lower the thread priority");
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    wake_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+    if (queue_.empty()) {
+      if (stop_) return;
+      continue;
+    }
+    Pending p = std::move(queue_.front());
+    queue_.pop_front();
+    lock.unlock();
+    process(std::move(p));
+    lock.lock();
+  }
+}
+
+void DenseMapper::process(Pending p) {
+  // Current poses of this keyframe and of the repair sources (local BA may have moved them since).
+  {
+    std::lock_guard lock(map_.mutex());
+    p.view.T_cw = map::resolve_pose(p.kf);
+    for (Pending& r : recent_) r.view.T_cw = map::resolve_pose(r.kf);
+  }
+  // Pixels that stay out of the keyframe's cloud. Never assigned an expression while sharing the
+  // mask's buffer: OpenCV would evaluate it into that buffer and change the stored mask.
+  cv::Mat exclude = p.view.dynamic;
+  RgbdView repaired_view = p.view;
+  if (params_.repair.enabled && !p.view.dynamic.empty() && cv::countNonZero(p.view.dynamic) > 0) {
+    std::vector<const RgbdView*> sources;
+    for (const Pending& r : recent_) sources.push_back(&r.view);
+    const RepairResult rep = repairer_.repair(p.view, sources);
+    if (on_repair_) on_repair_(p.kf->timestamp(), p.view, rep);
+    repaired_view.bgr = rep.bgr;
+    repaired_view.depth = rep.depth;
+    exclude = cv::Mat();
+    cv::bitwise_and(p.view.dynamic, ~rep.filled, exclude);
+    std::lock_guard lock(mutex_);
+    ++totals_.keyframes;
+    totals_.dynamic_pixels += static_cast<std::size_t>(rep.dynamic_pixels);
+    totals_.filled_pixels += static_cast<std::size_t>(rep.filled_pixels);
+  }
+  PointCloud local = keyframe_cloud(repaired_view, exclude);
+  std::vector<std::uint8_t> votes(local.size(), 0);
+  const FreeSpaceParams& fs = params_.free_space;
+  if (fs.votes > 0) {
+    // The new cloud against the recent keyframes, and their clouds against the new keyframe.
+    for (const Pending& r : recent_) vote_free_space(local, p.view.T_cw, r.view, camera_, fs, votes);
+    std::lock_guard lock(mutex_);
+    // stored_ ends with the keyframes recent_ holds, in the same order.
+    const std::size_t n = std::min(recent_.size(), stored_.size());
+    for (std::size_t k = 0; k < n; ++k) {
+      Stored& s = stored_[stored_.size() - n + k];
+      vote_free_space(s.local, recent_[recent_.size() - n + k].view.T_cw, p.view, camera_, fs, s.votes);
+    }
+  }
+  {
+    std::lock_guard lock(mutex_);
+    stored_.push_back({p.kf, std::move(local), std::move(votes)});
+  }
+  // The sources are the original images (a repaired pixel is another keyframe's, not a new view).
+  recent_.push_back(std::move(p));
+  while (recent_.size() > static_cast<std::size_t>(params_.repair.keyframes)) recent_.pop_front();
+}
+
+PointCloud DenseMapper::keyframe_cloud(const RgbdView& view, const cv::Mat& exclude) const {
+  VoxelGrid grid(params_.voxel_size);
+  const int step = params_.pixel_stride;
+  const double fx = camera_.fx, fy = camera_.fy, cx = camera_.cx, cy = camera_.cy;
+  for (int v = 0; v < view.depth.rows; v += step) {
+    const float* zrow = view.depth.ptr<float>(v);
+    const unsigned char* xrow = exclude.empty() ? nullptr : exclude.ptr<unsigned char>(v);
+    const cv::Vec3b* crow = view.bgr.ptr<cv::Vec3b>(v);
+    for (int u = 0; u < view.depth.cols; u += step) {
+      const float z = zrow[u];
+      if (z <= 0.0f || z > params_.max_depth || (xrow != nullptr && xrow[u] != 0)) continue;
+      if (on_depth_edge(view.depth, u, v, params_.depth_edge)) continue;
+      grid.add(Eigen::Vector3f(static_cast<float>((u - cx) * z / fx), static_cast<float>((v - cy) * z / fy), z),
+               crow[u]);
+    }
+  }
+  return grid.cloud();
+}
+
+PointCloud DenseMapper::cloud() const {
+  std::vector<const Stored*> parts;
+  std::lock_guard lock(mutex_);  // held while reading the clouds: the dense thread adds votes
+  for (const Stored& s : stored_) parts.push_back(&s);
+  std::vector<Eigen::Isometry3d> T_wc(parts.size());
+  {
+    std::lock_guard map_lock(map_.mutex());
+    for (std::size_t i = 0; i < parts.size(); ++i) T_wc[i] = map::resolve_pose(parts[i]->kf).inverse();
+  }
+  VoxelGrid grid(params_.voxel_size);
+  std::size_t total = 0;
+  for (const Stored* part : parts) total += part->local.size();
+  grid.reserve(total / 2);
+  const int min_votes = params_.free_space.votes;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const Eigen::Isometry3f T = T_wc[i].cast<float>();
+    const PointCloud& c = parts[i]->local;
+    const std::vector<std::uint8_t>& votes = parts[i]->votes;
+    for (std::size_t k = 0; k < c.size(); ++k)
+      if (min_votes == 0 || votes[k] < min_votes) grid.add(T * c.points[k], c.colours[k]);
+  }
+  return grid.cloud();
+}
+
+RepairTotals DenseMapper::repair_totals() const {
+  std::lock_guard lock(mutex_);
+  return totals_;
+}
+
+std::size_t DenseMapper::keyframes() const {
+  std::lock_guard lock(mutex_);
+  return stored_.size();
+}
+
+Eigen::Isometry3d DenseMapper::first_keyframe_T_wc() const {
+  const map::KeyFrame* first = nullptr;
+  {
+    std::lock_guard lock(mutex_);
+    if (stored_.empty()) return Eigen::Isometry3d::Identity();
+    first = stored_.front().kf;
+  }
+  std::lock_guard map_lock(map_.mutex());
+  return map::resolve_pose(first).inverse();
+}
+
+}  // namespace lrd::dense

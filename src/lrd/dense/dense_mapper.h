@@ -1,0 +1,97 @@
+#pragma once
+// The dense-mapping thread (paper Fig. 1, §2.7; Fig. 18): every new keyframe's RGB-D image is
+// repaired from the previous keyframes (BackgroundRepairer), turned into a coloured point cloud
+// in the keyframe's own camera frame (dynamic pixels, depth edges and far depth left out,
+// voxel-downsampled) and kept with the keyframe. The map is assembled on request with the
+// keyframes' current poses, so when local BA or loop closing moves a keyframe, its points move
+// with it. The thread runs at a lower OS priority than tracking, which never waits for it.
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "lrd/camera/pinhole_camera.h"
+#include "lrd/dense/background_repairer.h"
+#include "lrd/dense/dense_params.h"
+#include "lrd/dense/point_cloud.h"
+
+namespace lrd::map {
+class KeyFrame;
+class Map;
+}  // namespace lrd::map
+
+namespace lrd::dense {
+
+struct RepairTotals {
+  std::size_t keyframes = 0;         // keyframes repaired (with a dynamic region)
+  std::size_t dynamic_pixels = 0;    // pixels inside their dynamic regions
+  std::size_t filled_pixels = 0;     // of those, filled from earlier keyframes
+  [[nodiscard]] double fill_ratio() const {
+    return dynamic_pixels == 0 ? 1.0 : static_cast<double>(filled_pixels) / static_cast<double>(dynamic_pixels);
+  }
+};
+
+class DenseMapper {
+ public:
+  // Called in the dense thread after each keyframe's repair (for --save-repaired and evaluation).
+  using RepairCallback = std::function<void(double timestamp, const RgbdView& keyframe, const RepairResult& repair)>;
+
+  // threaded = false: nothing runs until process_queued() (deterministic mode, tests).
+  DenseMapper(map::Map& map, const camera::PinholeCamera& camera, const DenseParams& params, bool threaded);
+  ~DenseMapper();
+  DenseMapper(const DenseMapper&) = delete;
+  DenseMapper& operator=(const DenseMapper&) = delete;
+
+  void set_repair_callback(RepairCallback cb) { on_repair_ = std::move(cb); }
+
+  // Queues a new keyframe. bgr: CV_8UC3 BGR; depth: CV_32F metres; dynamic: CV_8UC1 or empty.
+  // The images must not be written to afterwards (the caller hands over its copies).
+  void add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat depth, cv::Mat dynamic);
+  // Processes every queued keyframe in the caller's thread.
+  void process_queued();
+  // Finishes the queue and stops the thread. Idempotent.
+  void shutdown();
+
+  // The map: every keyframe's points at its current pose, merged into voxel_size voxels. Takes the
+  // map mutex briefly to read poses.
+  [[nodiscard]] PointCloud cloud() const;
+  [[nodiscard]] RepairTotals repair_totals() const;
+  [[nodiscard]] std::size_t keyframes() const;
+  // Camera-to-world pose of the first keyframe (the default viewpoint of renderings).
+  [[nodiscard]] Eigen::Isometry3d first_keyframe_T_wc() const;
+
+ private:
+  struct Pending {
+    const map::KeyFrame* kf;
+    RgbdView view;
+  };
+  struct Stored {
+    const map::KeyFrame* kf;
+    PointCloud local;                  // camera frame
+    std::vector<std::uint8_t> votes;   // per point: keyframes that saw through it
+  };
+
+  void run();
+  void process(Pending p);
+  [[nodiscard]] PointCloud keyframe_cloud(const RgbdView& view, const cv::Mat& exclude) const;
+
+  map::Map& map_;
+  camera::PinholeCamera camera_;
+  DenseParams params_;
+  BackgroundRepairer repairer_;
+  RepairCallback on_repair_;
+
+  mutable std::mutex mutex_;  // queue_, stored_, totals_, stop_
+  std::condition_variable wake_;
+  std::deque<Pending> queue_;
+  std::vector<Stored> stored_;
+  RepairTotals totals_;
+  bool stop_ = false;
+  // Recent keyframes' images, the repair sources (dense thread only).
+  std::deque<Pending> recent_;
+  std::thread thread_;
+};
+
+}  // namespace lrd::dense

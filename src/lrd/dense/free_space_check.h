@@ -1,0 +1,28 @@
+#pragma once
+// Free-space check of keyframe clouds: a point another keyframe sees *through* — its depth image
+// shows a surface clearly behind the point, on a pixel that is not dynamic there — was not there
+// when that keyframe looked: a person the mask missed, or a flying pixel. Each such view is a
+// vote; points with enough votes stay out of the map. Masks from a network miss a person's
+// outline and limbs now and then; this is what keeps those pixels from becoming ghosts.
+#include <cstdint>
+#include <vector>
+
+#include "lrd/camera/pinhole_camera.h"
+#include "lrd/dense/point_cloud.h"
+#include "lrd/dense/rgbd_view.h"
+
+namespace lrd::dense {
+
+struct FreeSpaceParams {
+  int votes = 1;          // views that must see through a point to drop it (0: no check)
+  double margin = 0.05;   // m; plus margin_ratio x z: how far behind the point the view's surface must be
+  double margin_ratio = 0.05;
+};
+
+// Adds one vote to votes[i] for each point of `cloud` (in the camera frame of pose `T_cw_cloud`)
+// that `view` sees through. `votes` has the cloud's size.
+void vote_free_space(const PointCloud& cloud, const Eigen::Isometry3d& T_cw_cloud, const RgbdView& view,
+                     const camera::PinholeCamera& camera, const FreeSpaceParams& params,
+                     std::vector<std::uint8_t>& votes);
+
+}  // namespace lrd::dense

@@ -1,0 +1,186 @@
+#include "lrd/dense/ply_io.h"
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "lrd/util/error.h"
+
+namespace lrd::dense {
+
+namespace fs = std::filesystem;
+
+void write_ply(const fs::path& file, const PointCloud& cloud) {
+  std::ofstream out(file, std::ios::binary);
+  if (!out) throw file_error(file, "cannot write");
+  const bool coloured = cloud.colours.size() == cloud.points.size();
+  out << "ply\nformat binary_little_endian 1.0\ncomment written by lrd-slam\nelement vertex " << cloud.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\n";
+  if (coloured) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  out << "end_header\n";
+  // x86 and ARM are little-endian: the floats go out as they are in memory.
+  std::vector<char> buf;
+  buf.reserve(cloud.size() * 15);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const char* p = reinterpret_cast<const char*>(cloud.points[i].data());
+    buf.insert(buf.end(), p, p + 12);
+    if (coloured) {
+      const cv::Vec3b& c = cloud.colours[i];
+      buf.push_back(static_cast<char>(c[2]));
+      buf.push_back(static_cast<char>(c[1]));
+      buf.push_back(static_cast<char>(c[0]));
+    }
+  }
+  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  if (!out) throw file_error(file, "write failed (disk full?)");
+}
+
+namespace {
+
+struct Property {
+  std::string name, type;
+  [[nodiscard]] int size() const {
+    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+    if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" ||
+        type == "float32")
+      return 4;
+    if (type == "double" || type == "float64") return 8;
+    return 0;
+  }
+};
+
+struct Element {
+  std::string name;
+  std::size_t count = 0;
+  std::vector<Property> properties;
+  bool has_list = false;
+};
+
+double read_binary(const char* p, const std::string& type) {
+  if (type == "float" || type == "float32") {
+    float f;
+    std::memcpy(&f, p, 4);
+    return f;
+  }
+  if (type == "double" || type == "float64") {
+    double d;
+    std::memcpy(&d, p, 8);
+    return d;
+  }
+  if (type == "uchar" || type == "uint8") return static_cast<unsigned char>(*p);
+  if (type == "char" || type == "int8") return static_cast<signed char>(*p);
+  if (type == "ushort" || type == "uint16") {
+    std::uint16_t v;
+    std::memcpy(&v, p, 2);
+    return v;
+  }
+  if (type == "short" || type == "int16") {
+    std::int16_t v;
+    std::memcpy(&v, p, 2);
+    return v;
+  }
+  if (type == "uint" || type == "uint32") {
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);
+    return v;
+  }
+  std::int32_t v;
+  std::memcpy(&v, p, 4);
+  return v;
+}
+
+}  // namespace
+
+PointCloud read_ply(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw file_error(file, "cannot open (missing or unreadable)");
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) throw file_error(file, "not a PLY file");
+  std::string format;
+  std::vector<Element> elements;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ls(line);
+    std::string word;
+    ls >> word;
+    if (word == "format") {
+      ls >> format;
+    } else if (word == "element") {
+      Element e;
+      ls >> e.name >> e.count;
+      elements.push_back(e);
+    } else if (word == "property") {
+      if (elements.empty()) throw file_error(file, "property before any element");
+      std::string type;
+      ls >> type;
+      if (type == "list") {
+        elements.back().has_list = true;
+        continue;
+      }
+      Property p;
+      p.type = type;
+      ls >> p.name;
+      if (p.size() == 0) throw file_error(file, "unsupported property type '" + type + "'");
+      elements.back().properties.push_back(p);
+    } else if (word == "end_header") {
+      break;
+    }
+  }
+  if (format != "binary_little_endian" && format != "ascii")
+    throw file_error(file, "unsupported PLY format '" + format + "' (binary_little_endian or ascii)");
+  PointCloud cloud;
+  for (const Element& e : elements) {
+    if (e.name != "vertex") {
+      // Elements after the vertices (faces) are not needed; ones before them cannot be skipped safely.
+      if (cloud.points.empty() && e.count > 0) throw file_error(file, "element '" + e.name + "' before the vertices");
+      break;
+    }
+    if (e.has_list) throw file_error(file, "list properties on vertices are not supported");
+    int ix = -1, iy = -1, iz = -1, ir = -1, ig = -1, ib = -1;
+    std::vector<int> offset;
+    int stride = 0;
+    for (std::size_t k = 0; k < e.properties.size(); ++k) {
+      const std::string& n = e.properties[k].name;
+      const int ik = static_cast<int>(k);
+      if (n == "x") ix = ik;
+      if (n == "y") iy = ik;
+      if (n == "z") iz = ik;
+      if (n == "red") ir = ik;
+      if (n == "green") ig = ik;
+      if (n == "blue") ib = ik;
+      offset.push_back(stride);
+      stride += e.properties[k].size();
+    }
+    if (ix < 0 || iy < 0 || iz < 0) throw file_error(file, "vertices have no x, y, z");
+    const bool coloured = ir >= 0 && ig >= 0 && ib >= 0;
+    cloud.points.resize(e.count);
+    if (coloured) cloud.colours.resize(e.count);
+    std::vector<char> row(static_cast<std::size_t>(stride));
+    std::vector<double> values(e.properties.size());
+    for (std::size_t i = 0; i < e.count; ++i) {
+      if (format == "ascii") {
+        for (double& v : values)
+          if (!(in >> v)) throw file_error(file, "truncated: " + std::to_string(i) + " of " + std::to_string(e.count) + " vertices");
+      } else {
+        if (!in.read(row.data(), stride))
+          throw file_error(file, "truncated: " + std::to_string(i) + " of " + std::to_string(e.count) + " vertices");
+        for (std::size_t k = 0; k < values.size(); ++k)
+          values[k] = read_binary(row.data() + offset[k], e.properties[k].type);
+      }
+      cloud.points[i] = Eigen::Vector3f(static_cast<float>(values[static_cast<std::size_t>(ix)]),
+                                        static_cast<float>(values[static_cast<std::size_t>(iy)]),
+                                        static_cast<float>(values[static_cast<std::size_t>(iz)]));
+      if (coloured)
+        cloud.colours[i] = cv::Vec3b(static_cast<unsigned char>(values[static_cast<std::size_t>(ib)]),
+                                     static_cast<unsigned char>(values[static_cast<std::size_t>(ig)]),
+                                     static_cast<unsigned char>(values[static_cast<std::size_t>(ir)]));
+    }
+    break;
+  }
+  return cloud;
+}
+
+}  // namespace lrd::dense

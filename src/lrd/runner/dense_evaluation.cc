@@ -1,0 +1,116 @@
+#include "lrd/runner/dense_evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+
+#include "lrd/dense/ply_io.h"
+#include "lrd/eval/ate.h"
+#include "lrd/util/error.h"
+
+namespace lrd::runner {
+
+namespace fs = std::filesystem;
+
+namespace {
+long long micros(double t) { return std::llround(t * 1e6); }
+
+void write_png(const fs::path& file, const cv::Mat& img) {
+  if (!cv::imwrite(file.string(), img)) throw file_error(file, "cannot write");
+}
+
+cv::Mat depth_png(const cv::Mat& metres, double factor) {
+  cv::Mat out;
+  metres.convertTo(out, CV_16U, factor);
+  return out;
+}
+}  // namespace
+
+RepairRecorder::RepairRecorder(const io::TumSequence& sequence, double depth_factor, std::optional<fs::path> save_dir)
+    : sequence_(sequence), depth_factor_(depth_factor), save_dir_(std::move(save_dir)) {
+  has_truth_ = fs::is_directory(sequence.dir() / "static" / "depth");
+  for (std::size_t i = 0; i < sequence.size(); ++i) by_stamp_[micros(sequence.entry(i).timestamp)] = i;
+  if (save_dir_) {
+    std::error_code ec;
+    fs::create_directories(*save_dir_, ec);
+    if (ec) throw file_error(*save_dir_, "cannot create the folder: " + ec.message());
+  }
+}
+
+void RepairRecorder::record(double timestamp, const dense::RgbdView& keyframe, const dense::RepairResult& repair) {
+  const auto it = by_stamp_.find(micros(timestamp));
+  if (it == by_stamp_.end()) return;
+  const io::FrameEntry& e = sequence_.entry(it->second);
+  if (save_dir_) {
+    // Originals and repaired images side by side, named by the colour image (like Fig. 12).
+    const std::string stem = e.rgb_path.stem().string();
+    write_png(*save_dir_ / (stem + "_rgb.png"), keyframe.bgr);
+    write_png(*save_dir_ / (stem + "_rgb_repaired.png"), repair.bgr);
+    write_png(*save_dir_ / (stem + "_depth.png"), depth_png(keyframe.depth, depth_factor_));
+    write_png(*save_dir_ / (stem + "_depth_repaired.png"), depth_png(repair.depth, depth_factor_));
+    write_png(*save_dir_ / (stem + "_mask.png"), keyframe.dynamic);
+  }
+  if (!has_truth_) return;
+  const fs::path truth_file = sequence_.dir() / "static" / "depth" / e.depth_path.filename();
+  const cv::Mat truth = cv::imread(truth_file.string(), cv::IMREAD_UNCHANGED);
+  if (truth.empty() || truth.type() != CV_16UC1 || truth.size() != repair.depth.size()) return;
+  std::vector<float> errors;
+  for (int v = 0; v < truth.rows; ++v)
+    for (int u = 0; u < truth.cols; ++u) {
+      if (repair.filled.at<unsigned char>(v, u) == 0) continue;
+      const std::uint16_t raw = truth.at<std::uint16_t>(v, u);
+      if (raw == 0) continue;
+      errors.push_back(std::abs(repair.depth.at<float>(v, u) - static_cast<float>(raw / depth_factor_)));
+    }
+  std::lock_guard lock(mutex_);
+  errors_.insert(errors_.end(), errors.begin(), errors.end());
+}
+
+double RepairRecorder::median_depth_error() const {
+  std::lock_guard lock(mutex_);
+  if (errors_.empty()) return 0.0;
+  std::vector<float> e = errors_;
+  std::nth_element(e.begin(), e.begin() + static_cast<long>(e.size() / 2), e.end());
+  return e[e.size() / 2];
+}
+
+std::size_t RepairRecorder::compared_pixels() const {
+  std::lock_guard lock(mutex_);
+  return errors_.size();
+}
+
+eval::MapAccuracy evaluate_dense_map(const dense::PointCloud& map, const io::Trajectory& estimate,
+                                     const fs::path& sequence, const camera::PinholeCamera& camera, double max_depth,
+                                     double threshold, int frame_stride) {
+  const fs::path scene_file = sequence / "scene.ply";
+  if (!fs::exists(scene_file)) throw file_error(scene_file, "no scene model to judge the dense map against");
+  const io::TumSequence seq = io::TumSequence::open(sequence);
+  if (!seq.groundtruth_path()) throw file_error(sequence, "no groundtruth.txt to align the map with");
+  const io::Trajectory gt = io::read_trajectory_tum(*seq.groundtruth_path());
+  const eval::AteResult ate = eval::compute_ate(gt, estimate);
+  const dense::PointCloud scene = dense::read_ply(scene_file);
+
+  std::vector<Eigen::Vector3f> aligned(map.size());
+  const Eigen::Isometry3f A = ate.alignment.cast<float>();
+  for (std::size_t i = 0; i < map.size(); ++i) aligned[i] = A * map.points[i];
+
+  // Ground-truth views: poses by timestamp from groundtruth.txt (synthetic: one per frame).
+  std::unordered_map<long long, Eigen::Isometry3d> gt_pose;
+  for (const io::StampedPose& p : gt) gt_pose[micros(p.timestamp)] = p.pose;
+  std::vector<eval::TruthView> views;
+  for (std::size_t i = 0; i < seq.size(); i += static_cast<std::size_t>(std::max(1, frame_stride))) {
+    const auto it = gt_pose.find(micros(seq.entry(i).timestamp));
+    if (it == gt_pose.end()) continue;
+    eval::TruthView v;
+    v.T_cw = it->second.inverse();
+    v.depth = seq.load_rgbd(i, camera.depth_map_factor).depth;
+    const fs::path mask_file = sequence / "mask" / seq.entry(i).rgb_path.filename();
+    if (fs::exists(mask_file)) v.dynamic = cv::imread(mask_file.string(), cv::IMREAD_UNCHANGED);
+    views.push_back(std::move(v));
+  }
+  if (views.empty()) throw file_error(*seq.groundtruth_path(), "no ground-truth pose at any frame's timestamp");
+  const std::vector<char> seen = eval::seen_samples(scene.points, camera, views, max_depth);
+  return eval::evaluate_map(aligned, scene.points, seen, threshold);
+}
+
+}  // namespace lrd::runner

@@ -1,0 +1,51 @@
+#pragma once
+// Judging the dense stage on a sequence with ground truth (issue 7's bars): background repair
+// against the synthetic benchmark's static/depth images, and the dense map against its scene.ply.
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "lrd/camera/pinhole_camera.h"
+#include "lrd/dense/background_repairer.h"
+#include "lrd/dense/point_cloud.h"
+#include "lrd/eval/map_accuracy.h"
+#include "lrd/io/trajectory.h"
+#include "lrd/io/tum_sequence.h"
+
+namespace lrd::runner {
+
+// The repair callback of a run: writes the repaired keyframes (--save-repaired) and compares the
+// filled depths with the static scene's depth where the sequence has one (static/depth/).
+class RepairRecorder {
+ public:
+  RepairRecorder(const io::TumSequence& sequence, double depth_factor, std::optional<std::filesystem::path> save_dir);
+
+  // Called in the dense thread for each repaired keyframe.
+  void record(double timestamp, const dense::RgbdView& keyframe, const dense::RepairResult& repair);
+
+  [[nodiscard]] bool has_truth() const { return has_truth_; }
+  // Median |repaired depth - static depth| over the filled pixels (m), and how many were compared.
+  [[nodiscard]] double median_depth_error() const;
+  [[nodiscard]] std::size_t compared_pixels() const;
+
+ private:
+  const io::TumSequence& sequence_;
+  double depth_factor_;
+  std::optional<std::filesystem::path> save_dir_;
+  bool has_truth_ = false;
+  std::unordered_map<long long, std::size_t> by_stamp_;  // rgb timestamp in microseconds -> entry
+  mutable std::mutex mutex_;
+  std::vector<float> errors_;
+};
+
+// The dense map (in the estimate's world frame, aligned onto the ground truth with the ATE
+// alignment of `estimate`) against `sequence`/scene.ply; the samples count as seen when every
+// `frame_stride`-th frame's depth shows them. Throws lrd::Error naming what is missing.
+[[nodiscard]] eval::MapAccuracy evaluate_dense_map(const dense::PointCloud& map, const io::Trajectory& estimate,
+                                                   const std::filesystem::path& sequence,
+                                                   const camera::PinholeCamera& camera, double max_depth,
+                                                   double threshold = 0.05, int frame_stride = 5);
+
+}  // namespace lrd::runner
