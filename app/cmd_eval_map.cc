@@ -29,8 +29,10 @@ void register_eval_map_command(CLI::App& app) {
       ->required();
   cmd->add_option("--sequence", cli->sequence, "The synthetic sequence folder (scene.ply, groundtruth.txt)")->required();
   cmd->add_option("--threshold", cli->threshold, "Distance (m) beyond which a point is a ghost / a sample missing")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--max-depth", cli->max_depth, "Scene samples farther than this from the camera count as unseen")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->callback([cli] {
     const std::filesystem::path run = cli->run;

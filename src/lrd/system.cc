@@ -161,14 +161,20 @@ struct System::Impl {
 System::System(const config::Config& config, SystemOptions options)
     : impl_(std::make_unique<Impl>(config, options)) {}
 
-System::~System() { shutdown(); }
+System::~System() {
+  try {
+    shutdown();
+  } catch (const std::exception& e) {
+    spdlog::error("shutdown: {}", e.what());
+  }
+}
 
 void System::shutdown() {
   if (impl_->shut_down) return;
+  impl_->shut_down = true;
   if (impl_->worker) impl_->worker->shutdown();
   impl_->mapper.shutdown();
   if (impl_->dense) impl_->dense->shutdown();
-  impl_->shut_down = true;
 }
 
 const config::Config& System::config() const { return impl_->config; }

@@ -89,8 +89,8 @@ class System {
   // of the wrong type or size; timestamps must increase.
   TrackResult track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double timestamp, const cv::Mat& mask = {});
 
-  // Finishes local mapping on the queued keyframes and stops its thread. Idempotent; called by
-  // the destructor.
+  // Finishes local mapping (and the dense map) on the queued keyframes and stops their threads.
+  // Idempotent; called by the destructor. Throws the dense thread's error, if it met one.
   void shutdown();
 
   // Camera-to-world poses of every tracked frame (lost frames left out), computed from their

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <opencv2/imgproc.hpp>
+#include <string>
+#include <tuple>
 #include <vector>
 
 #include "lrd/dense/background_repairer.h"
@@ -130,6 +132,24 @@ TEST(PlyIo, BinaryRoundTripAndClearErrors) {
   ASSERT_EQ(a.size(), 1u);
   EXPECT_FLOAT_EQ(a.points[0].y(), 1.5f);
   EXPECT_TRUE(a.colours.empty());
+  // Malformed headers: a clear error naming the file, never a huge allocation or an empty cloud.
+  for (const auto& [name, text, words] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"neg.ply", "ply\nformat ascii 1.0\nelement vertex -1\nproperty float x\nend_header\n", "bad element"},
+           {"huge.ply",
+            "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+            "property float z\nend_header\n",
+            "truncated"},
+           {"novertex.ply", "ply\nformat ascii 1.0\nelement face 0\nend_header\n", "no vertex element"},
+           {"big.ply", "ply\nformat binary_big_endian 1.0\nelement vertex 1\nend_header\n", "binary_big_endian"}}) {
+    const auto file = tmp.write(name, text);
+    try {
+      (void)lrd::dense::read_ply(file);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const lrd::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  }
   const auto truncated = tmp.write("c.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\n"
                                             "property float y\nproperty float z\nend_header\n");
   try {

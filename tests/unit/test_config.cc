@@ -282,6 +282,7 @@ TEST_F(ConfigTest, ShippedDefaultDynamicAndSegmentationSectionsMatchCodeDefaults
   EXPECT_DOUBLE_EQ(dn.repair.depth_edge, dn0.repair.depth_edge);
   EXPECT_DOUBLE_EQ(dn.repair.surface_band, dn0.repair.surface_band);
   EXPECT_EQ(dn.free_space.votes, dn0.free_space.votes);
+  EXPECT_EQ(dn.free_space.keyframes, dn0.free_space.keyframes);
   EXPECT_DOUBLE_EQ(dn.free_space.margin, dn0.free_space.margin);
   EXPECT_DOUBLE_EQ(dn.free_space.margin_ratio, dn0.free_space.margin_ratio);
 }

@@ -1,5 +1,6 @@
 #include "lrd/dense/background_repairer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
@@ -8,6 +9,28 @@ namespace lrd::dense {
 
 BackgroundRepairer::BackgroundRepairer(const camera::PinholeCamera& camera, const RepairParams& params)
     : camera_(camera), params_(params) {}
+
+cv::Rect BackgroundRepairer::source_window(const cv::Rect& box, const Eigen::Isometry3d& T_st, const cv::Size& size) const {
+  // The target pixels of `box` at any depth the repair uses fill a convex frustum; its image in
+  // the source is the convex hull of its 8 corners' projections, so only the source pixels in
+  // their bounding box can land in the box. A corner behind the source camera: the whole image.
+  const double near = 0.3, far = params_.max_depth;  // depth sensors measure nothing nearer
+  double u0 = 1e9, v0 = 1e9, u1 = -1e9, v1 = -1e9;
+  for (const int x : {box.x, box.x + box.width})
+    for (const int y : {box.y, box.y + box.height})
+      for (const double z : {near, far}) {
+        const Eigen::Vector3d p = T_st * camera_.unproject(x, y, z);
+        if (p.z() <= 0.05) return {0, 0, size.width, size.height};
+        const double u = camera_.fx * p.x() / p.z() + camera_.cx, v = camera_.fy * p.y() / p.z() + camera_.cy;
+        u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
+      }
+  const int margin = 2;  // the 2x2 splat
+  const cv::Rect window(cv::Point(static_cast<int>(std::floor(std::max(u0, -1.0))) - margin,
+                                  static_cast<int>(std::floor(std::max(v0, -1.0))) - margin),
+                        cv::Point(static_cast<int>(std::ceil(std::min(u1, size.width + 1.0))) + margin,
+                                  static_cast<int>(std::ceil(std::min(v1, size.height + 1.0))) + margin));
+  return window & cv::Rect(0, 0, size.width, size.height);
+}
 
 RepairResult BackgroundRepairer::repair(const RgbdView& target, const std::vector<const RgbdView*>& sources) const {
   RepairResult r;
@@ -37,16 +60,17 @@ RepairResult BackgroundRepairer::repair(const RgbdView& target, const std::vecto
     const Eigen::Matrix3d R = T_ts.linear();
     const Eigen::Vector3d t = T_ts.translation();
     const bool src_masked = !src->dynamic.empty();
-    for (int v = 0; v < src->depth.rows; ++v) {
+    const cv::Rect rows_cols = source_window(box, T_ts.inverse(), src->depth.size());
+    for (int v = rows_cols.y; v < rows_cols.y + rows_cols.height; ++v) {
       const float* zrow = src->depth.ptr<float>(v);
       const unsigned char* mrow = src_masked ? src->dynamic.ptr<unsigned char>(v) : nullptr;
       const cv::Vec3b* crow = src->bgr.ptr<cv::Vec3b>(v);
       // The row's rays, so each pixel costs one scaled add and a projection.
       const Eigen::Vector3d row_base = R * Eigen::Vector3d(-cx / fx, (v - cy) / fy, 1.0);
       const Eigen::Vector3d du = R.col(0) / fx;
-      for (int u = 0; u < src->depth.cols; ++u) {
+      for (int u = rows_cols.x; u < rows_cols.x + rows_cols.width; ++u) {
         const float z = zrow[u];
-        if (z <= 0.0f || z > params_.max_depth || (mrow != nullptr && mrow[u] != 0)) continue;
+        if (!(z > 0.0f && z <= params_.max_depth) || (mrow != nullptr && mrow[u] != 0)) continue;  // NaN too
         const Eigen::Vector3d p = (row_base + du * u) * z + t;
         if (p.z() < 0.05) continue;
         const double pu = fx * p.x() / p.z() + cx, pv = fy * p.y() / p.z() + cy;

@@ -33,6 +33,10 @@ class BackgroundRepairer {
   [[nodiscard]] RepairResult repair(const RgbdView& target, const std::vector<const RgbdView*>& sources) const;
 
  private:
+  // The part of a source image (size `size`, pose T_st relative to the target) that can project
+  // into the target rectangle `box`.
+  [[nodiscard]] cv::Rect source_window(const cv::Rect& box, const Eigen::Isometry3d& T_st, const cv::Size& size) const;
+
   camera::PinholeCamera camera_;
   RepairParams params_;
 };

@@ -1,5 +1,6 @@
 #include "lrd/dense/cloud_renderer.h"
 
+#include <cmath>
 #include <limits>
 
 namespace lrd::dense {
@@ -14,8 +15,12 @@ cv::Mat render_cloud(const PointCloud& cloud, const camera::PinholeCamera& camer
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f p = T_cw * cloud.points[i];
     if (p.z() < 0.1f) continue;
-    const int u = static_cast<int>(camera.fx * p.x() / p.z() + camera.cx);
-    const int v = static_cast<int>(camera.fy * p.y() / p.z() + camera.cy);
+    const float fu = std::floor(static_cast<float>(camera.fx) * p.x() / p.z() + static_cast<float>(camera.cx) + 0.5f);
+    const float fv = std::floor(static_cast<float>(camera.fy) * p.y() / p.z() + static_cast<float>(camera.cy) + 0.5f);
+    if (!(fu > -4.0f && fv > -4.0f && fu < static_cast<float>(camera.width + 4) &&
+          fv < static_cast<float>(camera.height + 4)))
+      continue;  // outside the picture (or not a number): no cast of a huge float
+    const int u = static_cast<int>(fu), v = static_cast<int>(fv);
     for (int dv = -half; dv < point_px - half; ++dv)
       for (int du = -half; du < point_px - half; ++du) {
         const int x = u + du, y = v + dv;
@@ -40,7 +45,7 @@ Eigen::Isometry3d overview_pose(const PointCloud& cloud, const Eigen::Isometry3d
   if (z.norm() < 1e-6) z = R.col(2);
   z.normalize();
   Eigen::Vector3d x = z.cross(-R.col(1));  // right = forward x up
-  if (x.norm() < 1e-6) x = R.col(0);
+  if (x.norm() < 1e-6) x = R.col(0) - R.col(0).dot(z) * z;  // looking straight up or down
   x.normalize();
   const Eigen::Vector3d y = z.cross(x);
   Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();

@@ -5,6 +5,8 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
+
 #include "lrd/dense/voxel_grid.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
@@ -16,11 +18,18 @@ DenseMapper::DenseMapper(map::Map& map, const camera::PinholeCamera& camera, con
   if (threaded) thread_ = std::thread([this] { run(); });
 }
 
-DenseMapper::~DenseMapper() { shutdown(); }
+DenseMapper::~DenseMapper() {
+  try {
+    shutdown();
+  } catch (const std::exception& e) {
+    spdlog::error("dense mapping: {}", e.what());
+  }
+}
 
 void DenseMapper::add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat depth, cv::Mat dynamic) {
   {
-    std::lock_guard lock(mutex_);
+    std::lock_guard lock(queue_mutex_);
+    if (error_) return;  // the thread stopped at an error; shutdown() reports it
     queue_.push_back({kf, RgbdView{std::move(bgr), std::move(depth), std::move(dynamic), {}}});
   }
   wake_.notify_one();
@@ -30,8 +39,8 @@ void DenseMapper::process_queued() {
   for (;;) {
     Pending p;
     {
-      std::lock_guard lock(mutex_);
-      if (queue_.empty()) return;
+      std::lock_guard lock(queue_mutex_);
+      if (queue_.empty() || error_) return;
       p = std::move(queue_.front());
       queue_.pop_front();
     }
@@ -42,12 +51,19 @@ void DenseMapper::process_queued() {
 void DenseMapper::shutdown() {
   if (thread_.joinable()) {
     {
-      std::lock_guard lock(mutex_);
+      std::lock_guard lock(queue_mutex_);
       stop_ = true;
     }
     wake_.notify_one();
     thread_.join();
   }
+  std::exception_ptr error;
+  {
+    std::lock_guard lock(queue_mutex_);
+    std::swap(error, error_);
+    if (error) queue_.clear();
+  }
+  if (error) std::rethrow_exception(error);
   process_queued();  // whatever arrived after the thread stopped, or everything when unthreaded
 }
 
@@ -56,7 +72,7 @@ void DenseMapper::run() {
   // per-thread nice value; harmless where it is refused).
   if (setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10) != 0)
     spdlog::debug("dense mapping: could not lower the thread priority");
-  std::unique_lock lock(mutex_);
+  std::unique_lock lock(queue_mutex_);
   for (;;) {
     wake_.wait(lock, [this] { return stop_ || !queue_.empty(); });
     if (queue_.empty()) {
@@ -66,7 +82,15 @@ void DenseMapper::run() {
     Pending p = std::move(queue_.front());
     queue_.pop_front();
     lock.unlock();
-    process(std::move(p));
+    try {
+      process(std::move(p));
+    } catch (...) {
+      // Kept for shutdown() to rethrow in the caller's thread; nothing more is processed.
+      lock.lock();
+      error_ = std::current_exception();
+      queue_.clear();
+      return;
+    }
     lock.lock();
   }
 }
@@ -83,8 +107,10 @@ void DenseMapper::process(Pending p) {
   cv::Mat exclude = p.view.dynamic;
   RgbdView repaired_view = p.view;
   if (params_.repair.enabled && !p.view.dynamic.empty() && cv::countNonZero(p.view.dynamic) > 0) {
+    // The newest repair.keyframes of the kept keyframes.
     std::vector<const RgbdView*> sources;
-    for (const Pending& r : recent_) sources.push_back(&r.view);
+    const std::size_t first = recent_.size() - std::min<std::size_t>(recent_.size(), params_.repair.keyframes);
+    for (std::size_t k = first; k < recent_.size(); ++k) sources.push_back(&recent_[k].view);
     const RepairResult rep = repairer_.repair(p.view, sources);
     if (on_repair_) on_repair_(p.kf->timestamp(), p.view, rep);
     repaired_view.bgr = rep.bgr;
@@ -101,14 +127,20 @@ void DenseMapper::process(Pending p) {
   const FreeSpaceParams& fs = params_.free_space;
   if (fs.votes > 0) {
     // The new cloud against the recent keyframes, and their clouds against the new keyframe.
-    for (const Pending& r : recent_) vote_free_space(local, p.view.T_cw, r.view, camera_, fs, votes);
-    std::lock_guard lock(mutex_);
-    // stored_ ends with the keyframes recent_ holds, in the same order.
-    const std::size_t n = std::min(recent_.size(), stored_.size());
+    // Only this thread writes stored_ clouds and votes; the votes of earlier clouds are counted
+    // into copies and swapped in under the lock, so cloud() never waits for the projections.
+    const std::size_t n = std::min({recent_.size(), stored_.size(), static_cast<std::size_t>(fs.keyframes)});
+    for (std::size_t k = recent_.size() - n; k < recent_.size(); ++k)
+      vote_free_space(local, p.view.T_cw, recent_[k].view, camera_, fs, votes);
+    // stored_ ends with recent_'s keyframes, in the same order.
+    std::vector<std::vector<std::uint8_t>> updated(n);
     for (std::size_t k = 0; k < n; ++k) {
-      Stored& s = stored_[stored_.size() - n + k];
-      vote_free_space(s.local, recent_[recent_.size() - n + k].view.T_cw, p.view, camera_, fs, s.votes);
+      const Stored& s = stored_[stored_.size() - n + k];
+      updated[k] = s.votes;
+      vote_free_space(s.local, recent_[recent_.size() - n + k].view.T_cw, p.view, camera_, fs, updated[k]);
     }
+    std::lock_guard lock(mutex_);
+    for (std::size_t k = 0; k < n; ++k) stored_[stored_.size() - n + k].votes.swap(updated[k]);
   }
   {
     std::lock_guard lock(mutex_);
@@ -116,7 +148,8 @@ void DenseMapper::process(Pending p) {
   }
   // The sources are the original images (a repaired pixel is another keyframe's, not a new view).
   recent_.push_back(std::move(p));
-  while (recent_.size() > static_cast<std::size_t>(params_.repair.keyframes)) recent_.pop_front();
+  const auto keep = static_cast<std::size_t>(std::max(params_.repair.keyframes, params_.free_space.keyframes));
+  while (recent_.size() > keep) recent_.pop_front();
 }
 
 PointCloud DenseMapper::keyframe_cloud(const RgbdView& view, const cv::Mat& exclude) const {
@@ -129,7 +162,7 @@ PointCloud DenseMapper::keyframe_cloud(const RgbdView& view, const cv::Mat& excl
     const cv::Vec3b* crow = view.bgr.ptr<cv::Vec3b>(v);
     for (int u = 0; u < view.depth.cols; u += step) {
       const float z = zrow[u];
-      if (z <= 0.0f || z > params_.max_depth || (xrow != nullptr && xrow[u] != 0)) continue;
+      if (!(z > 0.0f && z <= params_.max_depth) || (xrow != nullptr && xrow[u] != 0)) continue;  // NaN too
       if (on_depth_edge(view.depth, u, v, params_.depth_edge)) continue;
       grid.add(Eigen::Vector3f(static_cast<float>((u - cx) * z / fx), static_cast<float>((v - cy) * z / fy), z),
                crow[u]);
@@ -139,9 +172,16 @@ PointCloud DenseMapper::keyframe_cloud(const RgbdView& view, const cv::Mat& excl
 }
 
 PointCloud DenseMapper::cloud() const {
+  // Under mutex_: which clouds there are, and their votes (the clouds themselves never change).
   std::vector<const Stored*> parts;
-  std::lock_guard lock(mutex_);  // held while reading the clouds: the dense thread adds votes
-  for (const Stored& s : stored_) parts.push_back(&s);
+  std::vector<std::vector<std::uint8_t>> votes;
+  {
+    std::lock_guard lock(mutex_);
+    for (const Stored& s : stored_) {
+      parts.push_back(&s);
+      votes.push_back(s.votes);
+    }
+  }
   std::vector<Eigen::Isometry3d> T_wc(parts.size());
   {
     std::lock_guard map_lock(map_.mutex());
@@ -155,9 +195,8 @@ PointCloud DenseMapper::cloud() const {
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const Eigen::Isometry3f T = T_wc[i].cast<float>();
     const PointCloud& c = parts[i]->local;
-    const std::vector<std::uint8_t>& votes = parts[i]->votes;
     for (std::size_t k = 0; k < c.size(); ++k)
-      if (min_votes == 0 || votes[k] < min_votes) grid.add(T * c.points[k], c.colours[k]);
+      if (min_votes == 0 || votes[i][k] < min_votes) grid.add(T * c.points[k], c.colours[k]);
   }
   return grid.cloud();
 }
@@ -165,22 +204,6 @@ PointCloud DenseMapper::cloud() const {
 RepairTotals DenseMapper::repair_totals() const {
   std::lock_guard lock(mutex_);
   return totals_;
-}
-
-std::size_t DenseMapper::keyframes() const {
-  std::lock_guard lock(mutex_);
-  return stored_.size();
-}
-
-Eigen::Isometry3d DenseMapper::first_keyframe_T_wc() const {
-  const map::KeyFrame* first = nullptr;
-  {
-    std::lock_guard lock(mutex_);
-    if (stored_.empty()) return Eigen::Isometry3d::Identity();
-    first = stored_.front().kf;
-  }
-  std::lock_guard map_lock(map_.mutex());
-  return map::resolve_pose(first).inverse();
 }
 
 }  // namespace lrd::dense

@@ -7,6 +7,7 @@
 // with it. The thread runs at a lower OS priority than tracking, which never waits for it.
 #include <condition_variable>
 #include <deque>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -51,16 +52,14 @@ class DenseMapper {
   void add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat depth, cv::Mat dynamic);
   // Processes every queued keyframe in the caller's thread.
   void process_queued();
-  // Finishes the queue and stops the thread. Idempotent.
+  // Finishes the queue and stops the thread. Idempotent. Rethrows the first error the dense
+  // thread met (e.g. a repaired image that could not be written); the thread stops at it.
   void shutdown();
 
   // The map: every keyframe's points at its current pose, merged into voxel_size voxels. Takes the
   // map mutex briefly to read poses.
   [[nodiscard]] PointCloud cloud() const;
   [[nodiscard]] RepairTotals repair_totals() const;
-  [[nodiscard]] std::size_t keyframes() const;
-  // Camera-to-world pose of the first keyframe (the default viewpoint of renderings).
-  [[nodiscard]] Eigen::Isometry3d first_keyframe_T_wc() const;
 
  private:
   struct Pending {
@@ -83,12 +82,15 @@ class DenseMapper {
   BackgroundRepairer repairer_;
   RepairCallback on_repair_;
 
-  mutable std::mutex mutex_;  // queue_, stored_, totals_, stop_
+  // Lock order: mutex_ is never held while taking the map mutex, so neither waits on the other.
+  std::mutex queue_mutex_;  // queue_, stop_, error_: all tracking ever waits for
   std::condition_variable wake_;
   std::deque<Pending> queue_;
-  std::vector<Stored> stored_;
-  RepairTotals totals_;
   bool stop_ = false;
+  std::exception_ptr error_;
+  mutable std::mutex mutex_;  // stored_ (a deque: elements stay put as it grows), totals_
+  std::deque<Stored> stored_;
+  RepairTotals totals_;
   // Recent keyframes' images, the repair sources (dense thread only).
   std::deque<Pending> recent_;
   std::thread thread_;

@@ -25,6 +25,8 @@ DenseParams DenseParams::from_config(config::NodeReader r) {
   q.check(p.repair.surface_band >= 0 && p.repair.surface_band < 0.5, "surface_band", "must be in [0, 0.5)");
   q.finish();
   config::NodeReader f = r.section("free_space");
+  p.free_space.keyframes = f.get("keyframes", p.free_space.keyframes);
+  f.check(p.free_space.keyframes >= 1 && p.free_space.keyframes <= 200, "keyframes", "must be in [1, 200]");
   p.free_space.votes = f.get("votes", p.free_space.votes);
   f.check(p.free_space.votes >= 0 && p.free_space.votes <= 20, "votes", "must be in [0, 20]");
   p.free_space.margin = f.get("margin", p.free_space.margin);

@@ -1,7 +1,10 @@
 #include "lrd/dense/ply_io.h"
 
+#include <algorithm>
+#include <bit>
 #include <cstring>
 #include <fstream>
+#include <opencv2/core/saturate.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -20,7 +23,8 @@ void write_ply(const fs::path& file, const PointCloud& cloud) {
       << "\nproperty float x\nproperty float y\nproperty float z\n";
   if (coloured) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   out << "end_header\n";
-  // x86 and ARM are little-endian: the floats go out as they are in memory.
+  // The floats go out as they are in memory.
+  static_assert(std::endian::native == std::endian::little, "write_ply assumes a little-endian machine");
   std::vector<char> buf;
   buf.reserve(cloud.size() * 15);
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -34,6 +38,7 @@ void write_ply(const fs::path& file, const PointCloud& cloud) {
     }
   }
   out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  out.close();
   if (!out) throw file_error(file, "write failed (disk full?)");
 }
 
@@ -110,7 +115,10 @@ PointCloud read_ply(const fs::path& file) {
       ls >> format;
     } else if (word == "element") {
       Element e;
-      ls >> e.name >> e.count;
+      long long count = -1;
+      ls >> e.name >> count;
+      if (!ls || count < 0) throw file_error(file, "bad element line '" + line + "'");
+      e.count = static_cast<std::size_t>(count);
       elements.push_back(e);
     } else if (word == "property") {
       if (elements.empty()) throw file_error(file, "property before any element");
@@ -132,12 +140,18 @@ PointCloud read_ply(const fs::path& file) {
   if (format != "binary_little_endian" && format != "ascii")
     throw file_error(file, "unsupported PLY format '" + format + "' (binary_little_endian or ascii)");
   PointCloud cloud;
+  bool found = false;
+  const std::streampos body = in.tellg();
+  in.seekg(0, std::ios::end);
+  const auto remaining = static_cast<std::size_t>(in.tellg() - body);
+  in.seekg(body);
   for (const Element& e : elements) {
     if (e.name != "vertex") {
+      if (e.count == 0) continue;
       // Elements after the vertices (faces) are not needed; ones before them cannot be skipped safely.
-      if (cloud.points.empty() && e.count > 0) throw file_error(file, "element '" + e.name + "' before the vertices");
-      break;
+      throw file_error(file, "element '" + e.name + "' before the vertices");
     }
+    found = true;
     if (e.has_list) throw file_error(file, "list properties on vertices are not supported");
     int ix = -1, iy = -1, iz = -1, ir = -1, ig = -1, ib = -1;
     std::vector<int> offset;
@@ -156,6 +170,11 @@ PointCloud read_ply(const fs::path& file) {
     }
     if (ix < 0 || iy < 0 || iz < 0) throw file_error(file, "vertices have no x, y, z");
     const bool coloured = ir >= 0 && ig >= 0 && ib >= 0;
+    // Binary: the count must fit the bytes there are (before allocating for it); ASCII: at
+    // least two bytes per number.
+    const std::size_t min_bytes = format == "ascii" ? 2 * e.properties.size() : static_cast<std::size_t>(stride);
+    if (e.count > remaining / std::max<std::size_t>(min_bytes, 1))
+      throw file_error(file, "truncated: " + std::to_string(e.count) + " vertices announced, the file is too short");
     cloud.points.resize(e.count);
     if (coloured) cloud.colours.resize(e.count);
     std::vector<char> row(static_cast<std::size_t>(stride));
@@ -174,12 +193,13 @@ PointCloud read_ply(const fs::path& file) {
                                         static_cast<float>(values[static_cast<std::size_t>(iy)]),
                                         static_cast<float>(values[static_cast<std::size_t>(iz)]));
       if (coloured)
-        cloud.colours[i] = cv::Vec3b(static_cast<unsigned char>(values[static_cast<std::size_t>(ib)]),
-                                     static_cast<unsigned char>(values[static_cast<std::size_t>(ig)]),
-                                     static_cast<unsigned char>(values[static_cast<std::size_t>(ir)]));
+        cloud.colours[i] = cv::Vec3b(cv::saturate_cast<uchar>(values[static_cast<std::size_t>(ib)]),
+                                     cv::saturate_cast<uchar>(values[static_cast<std::size_t>(ig)]),
+                                     cv::saturate_cast<uchar>(values[static_cast<std::size_t>(ir)]));
     }
     break;
   }
+  if (!found) throw file_error(file, "no vertex element");
   return cloud;
 }
 

@@ -21,7 +21,7 @@ struct RgbdView {
   const auto jumps = [&](int uu, int vv) {
     if (uu < 0 || vv < 0 || uu >= depth.cols || vv >= depth.rows) return false;
     const float n = depth.at<float>(vv, uu);
-    return n <= 0.0f || std::abs(n - z) > limit;
+    return !(n > 0.0f) || std::abs(n - z) > limit;  // no measurement (0 or NaN) next to it: an edge
   };
   return jumps(u - 1, v) || jumps(u + 1, v) || jumps(u, v - 1) || jumps(u, v + 1);
 }

@@ -12,6 +12,7 @@ void VoxelGrid::reserve(std::size_t voxels) {
 }
 
 void VoxelGrid::add(const Eigen::Vector3f& p, const cv::Vec3b& bgr) {
+  if (!p.allFinite()) return;
   // 21 bits per axis: +-10 km at 1 cm voxels.
   const auto key_of = [&](float x) {
     return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x * inv_size_)) + (1 << 20)) & 0x1FFFFF;

@@ -16,6 +16,7 @@ class VoxelGrid {
  public:
   explicit VoxelGrid(double voxel_size);
 
+  // Non-finite points are ignored.
   void add(const Eigen::Vector3f& p, const cv::Vec3b& bgr);
   void add(const PointCloud& cloud);
   [[nodiscard]] std::size_t size() const { return cells_.size(); }

@@ -5,6 +5,8 @@
 #include <limits>
 #include <unordered_map>
 
+#include "lrd/util/error.h"
+
 namespace lrd::eval {
 
 namespace {
@@ -13,12 +15,15 @@ namespace {
 class PointGrid {
  public:
   PointGrid(const std::vector<Eigen::Vector3f>& points, double cell) : points_(points), inv_(1.0 / cell) {
+    if (!(cell > 0.0)) throw Error("map accuracy: the distance threshold must be > 0");
     cells_.reserve(points.size() / 4 + 1);
-    for (std::size_t i = 0; i < points.size(); ++i) cells_[key(cell_of(points[i]))].push_back(static_cast<std::uint32_t>(i));
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (points[i].allFinite()) cells_[key(cell_of(points[i]))].push_back(static_cast<std::uint32_t>(i));
   }
 
   // Distance to the nearest point if one lies within the cell size, else infinity.
   [[nodiscard]] double nearest(const Eigen::Vector3f& p) const {
+    if (!p.allFinite()) return std::numeric_limits<double>::infinity();
     const Eigen::Vector3i c = cell_of(p);
     float best = std::numeric_limits<float>::infinity();
     for (int dz = -1; dz <= 1; ++dz)
@@ -81,7 +86,7 @@ MapAccuracy evaluate_map(const std::vector<Eigen::Vector3f>& map, const std::vec
   }
   if (!d.empty()) {
     std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
-    a.median_distance = d[d.size() / 2];
+    a.median_distance = std::min(d[d.size() / 2], threshold);  // capped: more than half are ghosts
   }
   const PointGrid map_grid(map, threshold);
   for (std::size_t i = 0; i < scene.size() && i < seen.size(); ++i) {

@@ -17,7 +17,7 @@ struct MapAccuracy {
   double threshold = 0.05;
   std::size_t map_points = 0;
   std::size_t ghost_points = 0;     // farther than threshold from every scene sample
-  double median_distance = 0.0;     // map point to its nearest scene sample (ghosts count as far)
+  double median_distance = 0.0;     // map point to its nearest scene sample (at most threshold)
   std::size_t seen_samples = 0;     // scene samples some frame saw
   std::size_t covered_samples = 0;  // of those, with a map point within threshold
   [[nodiscard]] double ghost_ratio() const {

@@ -229,7 +229,7 @@ DenseReport finish_dense(const System& slam, const RepairRecorder& repairs, cons
   if (fs::exists(o.sequence / "scene.ply") && trajectory.size() >= 2) {
     try {
       d.map = evaluate_dense_map(cloud, trajectory, o.sequence, camera, max_depth);
-    } catch (const Error& e) {
+    } catch (const std::exception& e) {
       spdlog::warn("dense map not judged: {}", e.what());
     }
   }
@@ -265,8 +265,9 @@ RunReport run_sequence(const RunOptions& o) {
     if (name) sopts.segmentation = segmenter_preset(*name, o.sequence, seg, o.segmenter_model.value_or(fs::path{}));
   }
   if (o.dense || o.save_repaired) sopts.dense = true;
-  System slam(cfg, sopts);
+  // Declared before the system, so it outlives the dense thread that calls it (also on errors).
   std::optional<RepairRecorder> repairs;
+  System slam(cfg, sopts);
   if (slam.dense_enabled()) {
     repairs.emplace(seq, cfg.camera.depth_map_factor, o.save_repaired);
     slam.set_repair_callback([&repairs](double t, const dense::RgbdView& kf, const dense::RepairResult& r) {

@@ -44,19 +44,26 @@ OnnxSegmenter::OnnxSegmenter(const OnnxParams& params) : params_(params) {
 std::string OnnxSegmenter::describe() const { return "onnx (" + params_.model.string() + ")"; }
 
 cv::Mat OnnxSegmenter::blob(const cv::Mat& rgb, bool rgb_order) const {
-  cv::Mat colour;
-  if (rgb.channels() == 1) cv::cvtColor(rgb, colour, cv::COLOR_GRAY2BGR);
-  else if (rgb_order != params_.input_rgb) cv::cvtColor(rgb, colour, cv::COLOR_BGR2RGB);  // swaps R and B
-  else colour = rgb;
+  // Resize first: every later step then works on the network's few pixels, not the camera's.
   cv::Mat resized;
-  cv::resize(colour, resized, cv::Size(params_.input_width, params_.input_height), 0, 0, cv::INTER_LINEAR);
-  // (x * scale - mean) / std, per channel in the network's order.
+  cv::resize(rgb, resized, cv::Size(params_.input_width, params_.input_height), 0, 0, cv::INTER_LINEAR);
+  if (resized.channels() == 1) cv::cvtColor(resized, resized, cv::COLOR_GRAY2BGR);
+  const bool swap = rgb.channels() == 3 && rgb_order != params_.input_rgb;
+  const auto& m = params_.mean;
+  const auto& sd = params_.std;
+  if (sd[0] == sd[1] && sd[1] == sd[2]) {
+    // (x * scale - mean) / std = (x - mean / scale) * (scale / std): one pass in blobFromImage,
+    // whose mean is given in the image's channel order (before the swap).
+    const double k = params_.scale / sd[0];
+    cv::Scalar mean(m[0] / params_.scale, m[1] / params_.scale, m[2] / params_.scale);
+    if (swap) std::swap(mean[0], mean[2]);
+    return cv::dnn::blobFromImage(resized, k, cv::Size(), mean, swap, false, CV_32F);
+  }
+  if (swap) cv::cvtColor(resized, resized, cv::COLOR_BGR2RGB);  // swaps R and B
   cv::Mat f;
   resized.convertTo(f, CV_32FC3, params_.scale);
-  const cv::Scalar mean(params_.mean[0], params_.mean[1], params_.mean[2]);
-  const cv::Scalar inv_std(1.0 / params_.std[0], 1.0 / params_.std[1], 1.0 / params_.std[2]);
-  cv::subtract(f, mean, f);
-  cv::multiply(f, inv_std, f);
+  cv::subtract(f, cv::Scalar(m[0], m[1], m[2]), f);
+  cv::multiply(f, cv::Scalar(1.0 / sd[0], 1.0 / sd[1], 1.0 / sd[2]), f);
   return cv::dnn::blobFromImage(f, 1.0, cv::Size(), cv::Scalar(), false, false, CV_32F);
 }
 
@@ -129,8 +136,16 @@ cv::Mat OnnxSegmenter::labels(const cv::Mat& rgb, bool rgb_order) {
 }
 
 cv::Mat OnnxSegmenter::segment(const cv::Mat& rgb, bool rgb_order, double /*timestamp*/) {
+  if (params_.output == OutputLayout::Probability) {
+    // Straight to 0/255: the same pixels as labels(), without its 0/1 detour over the full image.
+    const cv::Mat out = forward(rgb, rgb_order);
+    const int h = out.size[out.dims - 2], w = out.size[out.dims - 1];
+    const cv::Mat prob(h, w, CV_32F, const_cast<float*>(out.ptr<float>()));
+    cv::Mat full;
+    cv::resize(prob, full, rgb.size(), 0, 0, cv::INTER_LINEAR);
+    return full > params_.threshold;
+  }
   const cv::Mat label = labels(rgb, rgb_order);
-  if (params_.output == OutputLayout::Probability) return label * 255;
   cv::Mat mask(label.size(), CV_8UC1);
   const std::size_t n = label.total();
   for (std::size_t i = 0; i < n; ++i) {

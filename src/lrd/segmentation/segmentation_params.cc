@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "lrd/segmentation/onnx_presets.h"
+#include "lrd/util/error.h"
 
 namespace lrd::segmentation {
 
@@ -79,7 +80,13 @@ SegmentationParams SegmentationParams::from_config(config::NodeReader r, const f
     config::NodeReader o = r.section("onnx");
     OnnxParams& q = p.onnx;
     const fs::path model = resolve(o.get<fs::path>("model", fs::path{}), base_dir);
-    q = onnx_preset(preset.empty() ? "fnet" : preset, model);
+    // The preset matters only to the onnx backend (its model may not even be there otherwise).
+    const bool use_preset = !preset.empty() && p.backend == Backend::Onnx;
+    try {
+      q = onnx_preset(use_preset ? preset : "fnet", model);
+    } catch (const Error& e) {
+      r.check(false, "preset", e.what());
+    }
     q.input_width = o.get("input_width", q.input_width);
     q.input_height = o.get("input_height", q.input_height);
     o.check(q.input_width >= 8 && q.input_width <= 4096, "input_width", "must be in [8, 4096]");
