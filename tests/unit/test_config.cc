@@ -281,8 +281,10 @@ TEST_F(ConfigTest, ShippedDefaultDynamicAndSegmentationSectionsMatchCodeDefaults
   EXPECT_DOUBLE_EQ(dn.repair.max_depth, dn0.repair.max_depth);
   EXPECT_DOUBLE_EQ(dn.repair.depth_edge, dn0.repair.depth_edge);
   EXPECT_DOUBLE_EQ(dn.repair.surface_band, dn0.repair.surface_band);
+  EXPECT_EQ(dn.repair.pixel_stride, dn0.repair.pixel_stride);
   EXPECT_EQ(dn.free_space.votes, dn0.free_space.votes);
   EXPECT_EQ(dn.free_space.keyframes, dn0.free_space.keyframes);
+  EXPECT_EQ(dn.free_space.step, dn0.free_space.step);
   EXPECT_DOUBLE_EQ(dn.free_space.margin, dn0.free_space.margin);
   EXPECT_DOUBLE_EQ(dn.free_space.margin_ratio, dn0.free_space.margin_ratio);
 }

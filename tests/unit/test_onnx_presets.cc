@@ -12,6 +12,7 @@
 #include <string>
 
 #include "error_of.h"
+#include "shared_dir.h"
 #include "lrd/config/config.h"
 #include "lrd/runner/sequence_runner.h"
 #include "lrd/segmentation/onnx_presets.h"
@@ -26,12 +27,9 @@ using lrd::segmentation::OnnxSegmenter;
 using lrd::segmentation::OutputLayout;
 using lrd::test::error_of;
 
-namespace {
+using lrd::test::shared_dir;
 
-fs::path shared_dir() {
-  const char* env = std::getenv("LRD_SHARED_DIR");
-  return (env != nullptr && *env != '\0') ? fs::path(env) : fs::path(LRD_SOURCE_DIR) / ".." / "shared";
-}
+namespace {
 
 const char* const kPhotos[] = {"hyuto_sample.png", "mrcnn_ex01.jpg", "mrcnn_ex02.jpg", "mrcnn_ex03.jpg", "pphs_1.jpg",
                                "pphs_2.png",       "pphs_3.png",     "pphs_4.jpg",     "street.jpg"};

@@ -20,18 +20,16 @@
 #include "lrd/segmentation/segmentation_params.h"
 #include "lrd/util/error.h"
 #include "error_of.h"
+#include "shared_dir.h"
 
 namespace fs = std::filesystem;
 using lrd::segmentation::OnnxParams;
 using lrd::segmentation::OnnxSegmenter;
 using lrd::segmentation::OutputLayout;
 
-namespace {
+using lrd::test::shared_dir;
 
-fs::path shared_dir() {
-  const char* env = std::getenv("LRD_SHARED_DIR");
-  return (env != nullptr && *env != '\0') ? fs::path(env) : fs::path(LRD_SOURCE_DIR) / ".." / "shared";
-}
+namespace {
 
 // Skips the test unless the shared models and photos are there.
 #define REQUIRE_SHARED()                                                                                    \

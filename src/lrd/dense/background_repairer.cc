@@ -54,6 +54,9 @@ RepairResult BackgroundRepairer::repair(const RgbdView& target, const std::vecto
   const auto band = static_cast<float>(params_.surface_band);
   const double fx = camera_.fx, fy = camera_.fy, cx = camera_.cx, cy = camera_.cy;
   const int w = target.depth.cols, h = target.depth.rows;
+  // Every stride-th source pixel, each covering the (stride + 1)^2 target pixels around where it
+  // lands, so a slight change of viewpoint leaves no cracks.
+  const int stride = params_.pixel_stride, splat = stride + 1;
   for (const RgbdView* src : sources) {
     if (src == nullptr || src->depth.empty()) continue;
     const Eigen::Isometry3d T_ts = target.T_cw * src->T_cw.inverse();
@@ -61,29 +64,28 @@ RepairResult BackgroundRepairer::repair(const RgbdView& target, const std::vecto
     const Eigen::Vector3d t = T_ts.translation();
     const bool src_masked = !src->dynamic.empty();
     const cv::Rect rows_cols = source_window(box, T_ts.inverse(), src->depth.size());
-    for (int v = rows_cols.y; v < rows_cols.y + rows_cols.height; ++v) {
+    for (int v = rows_cols.y; v < rows_cols.y + rows_cols.height; v += stride) {
       const float* zrow = src->depth.ptr<float>(v);
       const unsigned char* mrow = src_masked ? src->dynamic.ptr<unsigned char>(v) : nullptr;
       const cv::Vec3b* crow = src->bgr.ptr<cv::Vec3b>(v);
       // The row's rays, so each pixel costs one scaled add and a projection.
       const Eigen::Vector3d row_base = R * Eigen::Vector3d(-cx / fx, (v - cy) / fy, 1.0);
       const Eigen::Vector3d du = R.col(0) / fx;
-      for (int u = rows_cols.x; u < rows_cols.x + rows_cols.width; ++u) {
+      for (int u = rows_cols.x; u < rows_cols.x + rows_cols.width; u += stride) {
         const float z = zrow[u];
         if (!(z > 0.0f && z <= params_.max_depth) || (mrow != nullptr && mrow[u] != 0)) continue;  // NaN too
         const Eigen::Vector3d p = (row_base + du * u) * z + t;
         if (p.z() < 0.05) continue;
         const double pu = fx * p.x() / p.z() + cx, pv = fy * p.y() / p.z() + cy;
-        // The source pixel covers about a target pixel: splat it onto the 2x2 pixels around it,
-        // so a slight change of viewpoint leaves no cracks.
-        const int u0 = static_cast<int>(std::floor(pu - 0.5)), v0 = static_cast<int>(std::floor(pv - 0.5));
-        if (u0 + 1 < box.x || v0 + 1 < box.y || u0 >= box.x + box.width || v0 >= box.y + box.height) continue;
+        const double half = 0.5 * splat - 0.5;
+        const int u0 = static_cast<int>(std::floor(pu - half)), v0 = static_cast<int>(std::floor(pv - half));
+        if (u0 + splat <= box.x || v0 + splat <= box.y || u0 >= box.x + box.width || v0 >= box.y + box.height) continue;
         if (on_depth_edge(src->depth, u, v, params_.depth_edge)) continue;
         const float zt = static_cast<float>(p.z());
-        for (int dv = 0; dv < 2; ++dv) {
+        for (int dv = 0; dv < splat; ++dv) {
           const int tv = v0 + dv;
           if (tv < 0 || tv >= h) continue;
-          for (int dx = 0; dx < 2; ++dx) {
+          for (int dx = 0; dx < splat; ++dx) {
             const int tu = u0 + dx;
             if (tu < 0 || tu >= w || region.at<unsigned char>(tv, tu) == 0) continue;
             float& best = zbuf.at<float>(tv, tu);

@@ -13,8 +13,16 @@
 
 namespace lrd::dense {
 
+namespace {
+constexpr int kCoarse = 4;  // the free-space check's views are 1/4 of the resolution
+}  // namespace
+
 DenseMapper::DenseMapper(map::Map& map, const camera::PinholeCamera& camera, const DenseParams& params, bool threaded)
-    : map_(map), camera_(camera), params_(params), repairer_(camera, params.repair) {
+    : map_(map),
+      camera_(camera),
+      coarse_camera_(coarse_camera(camera, kCoarse)),
+      params_(params),
+      repairer_(camera, params.repair) {
   if (threaded) thread_ = std::thread([this] { run(); });
 }
 
@@ -30,7 +38,7 @@ void DenseMapper::add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat dep
   {
     std::lock_guard lock(queue_mutex_);
     if (error_) return;  // the thread stopped at an error; shutdown() reports it
-    queue_.push_back({kf, RgbdView{std::move(bgr), std::move(depth), std::move(dynamic), {}}});
+    queue_.push_back({kf, RgbdView{std::move(bgr), std::move(depth), std::move(dynamic), {}}, {}});
   }
   wake_.notify_one();
 }
@@ -70,7 +78,7 @@ void DenseMapper::shutdown() {
 void DenseMapper::run() {
   // Below tracking's priority: on a busy machine the map waits, the camera does not (Linux
   // per-thread nice value; harmless where it is refused).
-  if (setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10) != 0)
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19) != 0)
     spdlog::debug("dense mapping: could not lower the thread priority");
   std::unique_lock lock(queue_mutex_);
   for (;;) {
@@ -100,7 +108,7 @@ void DenseMapper::process(Pending p) {
   {
     std::lock_guard lock(map_.mutex());
     p.view.T_cw = map::resolve_pose(p.kf);
-    for (Pending& r : recent_) r.view.T_cw = map::resolve_pose(r.kf);
+    for (Pending& r : recent_) r.coarse.T_cw = r.view.T_cw = map::resolve_pose(r.kf);
   }
   // Pixels that stay out of the keyframe's cloud. Never assigned an expression while sharing the
   // mask's buffer: OpenCV would evaluate it into that buffer and change the stored mask.
@@ -125,22 +133,26 @@ void DenseMapper::process(Pending p) {
   PointCloud local = keyframe_cloud(repaired_view, exclude);
   std::vector<std::uint8_t> votes(local.size(), 0);
   const FreeSpaceParams& fs = params_.free_space;
+  p.coarse = coarse_view(p.view, kCoarse);
   if (fs.votes > 0) {
     // The new cloud against the recent keyframes, and their clouds against the new keyframe.
     // Only this thread writes stored_ clouds and votes; the votes of earlier clouds are counted
     // into copies and swapped in under the lock, so cloud() never waits for the projections.
-    const std::size_t n = std::min({recent_.size(), stored_.size(), static_cast<std::size_t>(fs.keyframes)});
-    for (std::size_t k = recent_.size() - n; k < recent_.size(); ++k)
-      vote_free_space(local, p.view.T_cw, recent_[k].view, camera_, fs, votes);
+    // The latest fs.keyframes keyframes, every fs.step-th counted back from the newest.
     // stored_ ends with recent_'s keyframes, in the same order.
-    std::vector<std::vector<std::uint8_t>> updated(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const Stored& s = stored_[stored_.size() - n + k];
-      updated[k] = s.votes;
-      vote_free_space(s.local, recent_[recent_.size() - n + k].view.T_cw, p.view, camera_, fs, updated[k]);
+    const std::size_t n = std::min({recent_.size(), stored_.size(), static_cast<std::size_t>(fs.keyframes)});
+    std::vector<std::size_t> back;  // 1 = the newest
+    for (std::size_t k = 1; k <= n; k += static_cast<std::size_t>(fs.step)) back.push_back(k);
+    for (std::size_t k : back)
+      vote_free_space(local, p.view.T_cw, recent_[recent_.size() - k].coarse, coarse_camera_, fs, votes);
+    std::vector<std::vector<std::uint8_t>> updated(back.size());
+    for (std::size_t j = 0; j < back.size(); ++j) {
+      const Stored& s = stored_[stored_.size() - back[j]];
+      updated[j] = s.votes;
+      vote_free_space(s.local, recent_[recent_.size() - back[j]].view.T_cw, p.coarse, coarse_camera_, fs, updated[j]);
     }
     std::lock_guard lock(mutex_);
-    for (std::size_t k = 0; k < n; ++k) stored_[stored_.size() - n + k].votes.swap(updated[k]);
+    for (std::size_t j = 0; j < back.size(); ++j) stored_[stored_.size() - back[j]].votes.swap(updated[j]);
   }
   {
     std::lock_guard lock(mutex_);

@@ -65,6 +65,7 @@ class DenseMapper {
   struct Pending {
     const map::KeyFrame* kf;
     RgbdView view;
+    RgbdView coarse;  // for the free-space check (free_space_check.h), made when processed
   };
   struct Stored {
     const map::KeyFrame* kf;
@@ -78,6 +79,7 @@ class DenseMapper {
 
   map::Map& map_;
   camera::PinholeCamera camera_;
+  camera::PinholeCamera coarse_camera_;
   DenseParams params_;
   BackgroundRepairer repairer_;
   RepairCallback on_repair_;

@@ -21,12 +21,16 @@ DenseParams DenseParams::from_config(config::NodeReader r) {
   q.check(p.repair.max_depth > 0, "max_depth", "must be > 0");
   p.repair.depth_edge = q.get("depth_edge", p.repair.depth_edge);
   q.check(p.repair.depth_edge > 0, "depth_edge", "must be > 0");
+  p.repair.pixel_stride = q.get("pixel_stride", p.repair.pixel_stride);
+  q.check(p.repair.pixel_stride >= 1 && p.repair.pixel_stride <= 4, "pixel_stride", "must be in [1, 4]");
   p.repair.surface_band = q.get("surface_band", p.repair.surface_band);
   q.check(p.repair.surface_band >= 0 && p.repair.surface_band < 0.5, "surface_band", "must be in [0, 0.5)");
   q.finish();
   config::NodeReader f = r.section("free_space");
   p.free_space.keyframes = f.get("keyframes", p.free_space.keyframes);
   f.check(p.free_space.keyframes >= 1 && p.free_space.keyframes <= 200, "keyframes", "must be in [1, 200]");
+  p.free_space.step = f.get("step", p.free_space.step);
+  f.check(p.free_space.step >= 1 && p.free_space.step <= 20, "step", "must be in [1, 20]");
   p.free_space.votes = f.get("votes", p.free_space.votes);
   f.check(p.free_space.votes >= 0 && p.free_space.votes <= 20, "votes", "must be in [0, 20]");
   p.free_space.margin = f.get("margin", p.free_space.margin);

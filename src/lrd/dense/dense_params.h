@@ -11,6 +11,7 @@ struct RepairParams {
   int keyframes = 10;              // earlier keyframes whose static pixels fill a new keyframe's dynamic region
   double max_depth = 6.0;          // source pixels farther than this (m) are not used
   double depth_edge = 0.05;        // source pixels on depth edges (relative jump to a neighbour) are not used
+  int pixel_stride = 2;            // every n-th source pixel in both directions, splatted over (n + 1)^2
   double surface_band = 0.03;      // samples within this share of z behind the nearest are averaged with it
 };
 

@@ -19,10 +19,18 @@ struct FreeSpaceParams {
   // frames), too short for a person standing in view to leave it: 1.85 % ghosts with 20, 0.18 %
   // with 40 (docs/dense-map.md).
   int keyframes = 40;
+  int step = 2;           // every step-th of them: the same span of time for half the work
   int votes = 1;          // views that must see through a point to drop it (0: no check)
   double margin = 0.05;   // m; plus margin_ratio x z: how far behind the point the view's surface must be
   double margin_ratio = 0.05;
 };
+
+// The view at 1/factor resolution for the check: per block the nearest valid depth (a point is
+// voted against only if even the nearest surface there is behind it) and "dynamic" if any pixel
+// is. 16 times less memory to sweep per view at factor 4, so the dense thread keeps out of the
+// caches the tracking thread works in; `camera` scaled to match.
+[[nodiscard]] RgbdView coarse_view(const RgbdView& view, int factor);
+[[nodiscard]] camera::PinholeCamera coarse_camera(const camera::PinholeCamera& camera, int factor);
 
 // Adds one vote to votes[i] for each point of `cloud` (in the camera frame of pose `T_cw_cloud`)
 // that `view` sees through. `votes` has the cloud's size.

@@ -52,32 +52,37 @@ void RepairRecorder::record(double timestamp, const dense::RgbdView& keyframe, c
     write_png(*save_dir_ / (stem + "_mask.png"), keyframe.dynamic);
   }
   if (!has_truth_) return;
-  const fs::path truth_file = sequence_.dir() / "static" / "depth" / e.depth_path.filename();
-  const cv::Mat truth = cv::imread(truth_file.string(), cv::IMREAD_UNCHANGED);
-  if (truth.empty() || truth.type() != CV_16UC1 || truth.size() != repair.depth.size()) return;
+  Filled f;
+  f.truth = sequence_.dir() / "static" / "depth" / e.depth_path.filename();
+  for (int v = 0; v < repair.filled.rows; ++v)
+    for (int u = 0; u < repair.filled.cols; ++u)
+      if (repair.filled.at<unsigned char>(v, u) != 0) {
+        f.pixels.push_back(v * repair.filled.cols + u);
+        f.depths.push_back(repair.depth.at<float>(v, u));
+      }
+  std::lock_guard lock(mutex_);
+  filled_.push_back(std::move(f));
+}
+
+RepairRecorder::DepthError RepairRecorder::depth_error() const {
+  std::lock_guard lock(mutex_);
   std::vector<float> errors;
-  for (int v = 0; v < truth.rows; ++v)
-    for (int u = 0; u < truth.cols; ++u) {
-      if (repair.filled.at<unsigned char>(v, u) == 0) continue;
-      const std::uint16_t raw = truth.at<std::uint16_t>(v, u);
-      if (raw == 0) continue;
-      errors.push_back(std::abs(repair.depth.at<float>(v, u) - static_cast<float>(raw / depth_factor_)));
+  for (const Filled& f : filled_) {
+    const cv::Mat truth = cv::imread(f.truth.string(), cv::IMREAD_UNCHANGED);
+    if (truth.empty() || truth.type() != CV_16UC1) continue;
+    for (std::size_t i = 0; i < f.pixels.size(); ++i) {
+      if (f.pixels[i] >= static_cast<int>(truth.total())) break;
+      const std::uint16_t raw = truth.at<std::uint16_t>(f.pixels[i]);
+      if (raw != 0) errors.push_back(std::abs(f.depths[i] - static_cast<float>(raw / depth_factor_)));
     }
-  std::lock_guard lock(mutex_);
-  errors_.insert(errors_.end(), errors.begin(), errors.end());
-}
-
-double RepairRecorder::median_depth_error() const {
-  std::lock_guard lock(mutex_);
-  if (errors_.empty()) return 0.0;
-  std::vector<float> e = errors_;
-  std::nth_element(e.begin(), e.begin() + static_cast<long>(e.size() / 2), e.end());
-  return e[e.size() / 2];
-}
-
-std::size_t RepairRecorder::compared_pixels() const {
-  std::lock_guard lock(mutex_);
-  return errors_.size();
+  }
+  DepthError d;
+  d.pixels = errors.size();
+  if (!errors.empty()) {
+    std::nth_element(errors.begin(), errors.begin() + static_cast<long>(errors.size() / 2), errors.end());
+    d.median = errors[errors.size() / 2];
+  }
+  return d;
 }
 
 eval::MapAccuracy evaluate_dense_map(const dense::PointCloud& map, const io::Trajectory& estimate,

@@ -26,9 +26,14 @@ class RepairRecorder {
   void record(double timestamp, const dense::RgbdView& keyframe, const dense::RepairResult& repair);
 
   [[nodiscard]] bool has_truth() const { return has_truth_; }
-  // Median |repaired depth - static depth| over the filled pixels (m), and how many were compared.
-  [[nodiscard]] double median_depth_error() const;
-  [[nodiscard]] std::size_t compared_pixels() const;
+  // Compares the recorded repairs with static/depth (read only now, after the run, so judging
+  // does not load the dense thread): median |repaired depth - static depth| over the filled
+  // pixels (m), and how many pixels were compared.
+  struct DepthError {
+    double median = 0.0;
+    std::size_t pixels = 0;
+  };
+  [[nodiscard]] DepthError depth_error() const;
 
  private:
   const io::TumSequence& sequence_;
@@ -36,8 +41,14 @@ class RepairRecorder {
   std::optional<std::filesystem::path> save_dir_;
   bool has_truth_ = false;
   std::unordered_map<long long, std::size_t> by_stamp_;  // rgb timestamp in microseconds -> entry
+  // The filled pixels of each repaired keyframe: its static depth file, pixel indices, depths.
+  struct Filled {
+    std::filesystem::path truth;
+    std::vector<int> pixels;
+    std::vector<float> depths;
+  };
   mutable std::mutex mutex_;
-  std::vector<float> errors_;
+  std::vector<Filled> filled_;
 };
 
 // The dense map (in the estimate's world frame, aligned onto the ground truth by the rigid

@@ -222,9 +222,12 @@ DenseReport finish_dense(const System& slam, const RepairRecorder& repairs, cons
     if (!cv::imwrite(png.string(), picture)) throw file_error(png, "cannot write");
   }
   d.repair = slam.repair_totals();
-  if (repairs.has_truth() && repairs.compared_pixels() > 0) {
-    d.repair_median_depth_error = repairs.median_depth_error();
-    d.repair_compared_pixels = repairs.compared_pixels();
+  if (repairs.has_truth()) {
+    const RepairRecorder::DepthError e = repairs.depth_error();
+    if (e.pixels > 0) {
+      d.repair_median_depth_error = e.median;
+      d.repair_compared_pixels = e.pixels;
+    }
   }
   if (fs::exists(o.sequence / "scene.ply") && trajectory.size() >= 2) {
     try {
