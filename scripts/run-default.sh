@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Sets up a fresh Debian bookworm machine, builds lrd-slam and runs the main job on the built-in
 # default: it renders the default synthetic dynamic sequence (walking_xyz, seed 1), runs SLAM on
-# it and prints ATE/RPE against its ground truth (with plots). With the shipped segmentation
-# model (models/fnet-lite.onnx) it runs the full LRD-SLAM (C) mode; until that model ships, the
+# it with the dense map and prints ATE/RPE against its ground truth (with plots). With the shipped
+# segmentation model (models/fnet-lite.onnx) it runs the full LRD-SLAM (C) mode; without it, the
 # model-free `geometric` mode (the multi-view geometry check alone).
 # Usage: scripts/run-default.sh [OUT_DIR]   (default: out/default)
 set -euo pipefail
@@ -20,6 +20,7 @@ if [ ! -f "$SEQ/sequence.json" ]; then
   "$BIN" synth --preset walking_xyz --seed 1 --out "$SEQ"
 fi
 if [ -f models/fnet-lite.onnx ]; then MODE=(--mode full --segmenter fnet); else MODE=(--mode geometric); fi
+MODE+=(--dense)  # background repair and the dense map: dense_map.ply, dense_map.png
 "$BIN" run --sequence "$SEQ" --out "$OUT/run" "${MODE[@]}"
 "$BIN" eval "$SEQ/groundtruth.txt" "$OUT/run/CameraTrajectory.txt" --json "$OUT/eval.json" --plot "$OUT/plots"
-echo "Sequence: $SEQ   trajectory: $OUT/run/CameraTrajectory.txt   evaluation: $OUT/eval.json   plots: $OUT/plots"
+echo "Sequence: $SEQ   trajectory: $OUT/run/CameraTrajectory.txt   dense map: $OUT/run/dense_map.ply   evaluation: $OUT/eval.json   plots: $OUT/plots"
