@@ -15,6 +15,7 @@ namespace {
 struct RunCli {
   std::string sequence, settings, preset, config, out, mode, segmenter, segmenter_model, save_masks, save_repaired;
   bool dense = false;
+  bool realtime = false;
   bool deterministic = false;
   bool quiet = false;
   std::size_t max_frames = 0;
@@ -99,6 +100,8 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--save-repaired", cli->save_repaired,
                   "Write each keyframe's repaired colour and depth (with the originals) to this folder");
   cmd->add_option("--max-frames", cli->max_frames, "Stop after this many frames (0: all)");
+  cmd->add_flag("--realtime", cli->realtime,
+                "Feed frames at their timestamps' pace, like a live camera (default: as fast as they are tracked)");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->callback([cli] {
     runner::RunOptions o;
@@ -115,6 +118,7 @@ void register_run_command(CLI::App& app) {
     if (!cli->save_masks.empty()) o.save_masks = cli->save_masks;
     if (!cli->save_repaired.empty()) o.save_repaired = cli->save_repaired;
     o.dense = cli->dense;
+    o.realtime = cli->realtime;
     o.progress = !cli->quiet;
     const runner::RunReport r = runner::run_sequence(o);
     print_report(o, r);

@@ -66,3 +66,11 @@ def test_settings_and_preset_exclude_each_other(sequence, tmp_path):
     r = lrdslam("run", "--sequence", sequence, "--out", tmp_path / "o", "--settings",
                 sequence / "settings.yaml", "--preset", "tum1", check=False)
     assert r.returncode != 0
+
+
+def test_realtime_feeds_frames_at_the_cameras_pace(sequence, tmp_path):
+    """--realtime: frame k is not tracked before k / fps after the first, like a live camera."""
+    lrdslam("run", "--sequence", sequence, "--out", tmp_path, "--quiet", "--realtime", "--max-frames", 45)
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["frames"] == 45
+    assert s["wall_seconds"] >= 44 / 30.0 - 0.01  # 45 frames at 30 Hz span 1.47 s

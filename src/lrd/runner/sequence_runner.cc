@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
+#include <thread>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -296,7 +297,14 @@ RunReport run_sequence(const RunOptions& o) {
   cv::Mat rgb, grey;
   std::vector<cv::KeyPoint> ref_kps;
   cv::Mat ref_desc;
+  std::optional<double> first_stamp;
   while (auto f = frames.next()) {
+    if (o.realtime) {
+      // A live camera: frame k is not there before its timestamp's offset from the first frame.
+      if (!first_stamp) first_stamp = f->timestamp;
+      std::this_thread::sleep_until(wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                std::chrono::duration<double>(f->timestamp - *first_stamp)));
+    }
     // The loader gives BGR; the system expects the camera's colour order.
     if (cfg.camera.rgb_order) cv::cvtColor(f->rgb, rgb, cv::COLOR_BGR2RGB);
     else rgb = f->rgb;

@@ -37,6 +37,9 @@ struct RunOptions {
   // Writes each repaired keyframe (colour, depth, mask; originals beside them) here; implies the
   // dense stage's repair.
   std::optional<std::filesystem::path> save_repaired;
+  // Feed frames no faster than their timestamps (a live camera) instead of as fast as they are
+  // tracked: the cores then have the idle time a real camera leaves the background threads.
+  bool realtime = false;
   int flag_eval_stride = 5;    // with ground-truth masks: judge the dynamic flags on every n-th frame
   bool progress = true;        // progress bar on stderr
 };
