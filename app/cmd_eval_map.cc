@@ -39,15 +39,11 @@ void register_eval_map_command(CLI::App& app) {
     runner::RunOptions o;
     o.sequence = cli->sequence;
     const config::Config cfg = runner::resolve_config(o);
-    runner::DenseReport d;
     const dense::PointCloud map = dense::read_ply(run / "dense_map.ply");
-    d.points = map.size();
-    d.map = runner::evaluate_dense_map(map, io::read_trajectory_tum(run / "CameraTrajectory.txt"), cli->sequence,
-                                       cfg.camera, cli->max_depth, cli->threshold);
-    std::printf("dense map vs scene: %.2f %% of %zu points farther than %.0f cm (ghosts), completeness %.1f %% of %zu "
-                "seen scene samples, median distance %.1f mm\n",
-                100.0 * d.map->ghost_ratio(), d.points, 100.0 * cli->threshold, 100.0 * d.map->completeness(),
-                d.map->seen_samples, 1e3 * d.map->median_distance);
+    const eval::MapAccuracy accuracy =
+        runner::evaluate_dense_map(map, io::read_trajectory_tum(run / "CameraTrajectory.txt"), cli->sequence,
+                                   cfg.camera, cli->max_depth, cli->threshold);
+    std::printf("dense map vs scene: %s\n", eval::describe(accuracy).c_str());
   });
 }
 

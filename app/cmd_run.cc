@@ -27,11 +27,7 @@ void print_dense(const runner::DenseReport& d) {
   if (d.repair_median_depth_error)
     std::printf(", median depth error %.1f mm vs the static scene", 1e3 * *d.repair_median_depth_error);
   std::printf("\n");
-  if (d.map)
-    std::printf("dense map vs scene: %.2f %% of points farther than %.0f cm (ghosts), completeness %.1f %% of %zu "
-                "seen scene samples, median distance %.1f mm\n",
-                100.0 * d.map->ghost_ratio(), 100.0 * d.map->threshold, 100.0 * d.map->completeness(),
-                d.map->seen_samples, 1e3 * d.map->median_distance);
+  if (d.map) std::printf("dense map vs scene: %s\n", eval::describe(*d.map).c_str());
 }
 
 void print_report(const runner::RunOptions& o, const runner::RunReport& r) {

@@ -1,6 +1,6 @@
 #include "lrd/dense/voxel_grid.h"
 
-#include <cmath>
+#include "lrd/dense/voxel_key.h"
 
 namespace lrd::dense {
 
@@ -13,12 +13,7 @@ void VoxelGrid::reserve(std::size_t voxels) {
 
 void VoxelGrid::add(const Eigen::Vector3f& p, const cv::Vec3b& bgr) {
   if (!p.allFinite()) return;
-  // 21 bits per axis: +-10 km at 1 cm voxels.
-  const auto key_of = [&](float x) {
-    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x * inv_size_)) + (1 << 20)) & 0x1FFFFF;
-  };
-  const std::uint64_t key = key_of(p.x()) | (key_of(p.y()) << 21) | (key_of(p.z()) << 42);
-  const auto [it, inserted] = index_.try_emplace(key, static_cast<std::uint32_t>(cells_.size()));
+  const auto [it, inserted] = index_.try_emplace(voxel_key(p, inv_size_), static_cast<std::uint32_t>(cells_.size()));
   if (inserted) cells_.emplace_back();
   Cell& c = cells_[it->second];
   c.sum += p.cast<double>();

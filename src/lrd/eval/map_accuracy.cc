@@ -1,10 +1,13 @@
 #include "lrd/eval/map_accuracy.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
 
+#include "lrd/dense/voxel_key.h"
 #include "lrd/util/error.h"
 
 namespace lrd::eval {
@@ -42,10 +45,7 @@ class PointGrid {
     return {static_cast<int>(std::floor(p.x() * inv_)), static_cast<int>(std::floor(p.y() * inv_)),
             static_cast<int>(std::floor(p.z() * inv_))};
   }
-  static std::uint64_t key(const Eigen::Vector3i& c) {
-    const auto k = [](int v) { return static_cast<std::uint64_t>(v + (1 << 20)) & 0x1FFFFF; };
-    return k(c.x()) | (k(c.y()) << 21) | (k(c.z()) << 42);
-  }
+  static std::uint64_t key(const Eigen::Vector3i& c) { return dense::voxel_key(c.x(), c.y(), c.z()); }
   const std::vector<Eigen::Vector3f>& points_;
   double inv_;
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
@@ -71,6 +71,13 @@ std::vector<char> seen_samples(const std::vector<Eigen::Vector3f>& samples, cons
     }
   }
   return seen;
+}
+
+std::string describe(const MapAccuracy& a) {
+  return fmt::format("{:.2f} % of {} points farther than {:.0f} cm (ghosts), completeness {:.1f} % of {} seen scene "
+                     "samples, median distance {:.1f} mm",
+                     100.0 * a.ghost_ratio(), a.map_points, 100.0 * a.threshold, 100.0 * a.completeness(),
+                     a.seen_samples, 1e3 * a.median_distance);
 }
 
 MapAccuracy evaluate_map(const std::vector<Eigen::Vector3f>& map, const std::vector<Eigen::Vector3f>& scene,

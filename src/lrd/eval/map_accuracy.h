@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <string>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -40,6 +41,10 @@ struct TruthView {
 [[nodiscard]] std::vector<char> seen_samples(const std::vector<Eigen::Vector3f>& samples,
                                              const camera::PinholeCamera& camera, const std::vector<TruthView>& views,
                                              double max_depth);
+
+// "0.15 % of 282757 points farther than 5 cm (ghosts), completeness 99.8 % of 32624 seen scene
+// samples, median distance 13.1 mm" — what `lrdslam run --dense` and `eval-map` print.
+[[nodiscard]] std::string describe(const MapAccuracy& a);
 
 // `map` in the scene's world frame; `seen` from seen_samples (same length as `scene`).
 [[nodiscard]] MapAccuracy evaluate_map(const std::vector<Eigen::Vector3f>& map,
