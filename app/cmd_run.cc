@@ -15,6 +15,8 @@ namespace {
 struct RunCli {
   std::string sequence, settings, preset, config, out, mode, segmenter, segmenter_model, save_masks, save_repaired;
   bool dense = false;
+  bool no_loop_closing = false;
+  std::string vocabulary;
   bool realtime = false;
   bool deterministic = false;
   bool quiet = false;
@@ -37,6 +39,13 @@ void print_report(const runner::RunOptions& o, const runner::RunReport& r) {
   std::printf("map: %zu keyframes (%zu culled), %zu map points, %zu local BAs\n", r.map.keyframes,
               r.map.culled_keyframes, r.map.map_points, r.map.bundle_adjustments);
   std::printf("mode: %s  segmentation: %s\n", r.mode.c_str(), r.segmentation.c_str());
+  std::printf("place recognition: %s; loop closing %s; %zu loops closed, %d relocalizations, %d global BAs\n",
+              r.vocabulary.empty() ? "off (no vocabulary)" : r.vocabulary.c_str(), r.loop_closing ? "on" : "off",
+              r.loops.size(), r.map.relocalizations, r.map.global_bundle_adjustments);
+  for (const loop::LoopEvent& e : r.loops)
+    std::printf("  loop: frame %llu (keyframe %llu) -> keyframe %llu, %d inliers, corrected by %.3f m\n",
+                static_cast<unsigned long long>(e.frame_id), static_cast<unsigned long long>(e.keyframe_id),
+                static_cast<unsigned long long>(e.loop_keyframe_id), e.inliers, e.correction_m);
   std::printf("time per frame (ms, without decoding): median %.1f  mean %.1f\n", r.total.median_ms, r.total.mean_ms);
   std::printf("  extraction %.1f / %.1f  tracking %.1f / %.1f  waiting %.1f / %.1f  mapping %.1f / %.1f "
               "(median / mean)\n",
@@ -98,6 +107,10 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--max-frames", cli->max_frames, "Stop after this many frames (0: all)");
   cmd->add_flag("--realtime", cli->realtime,
                 "Feed frames at their timestamps' pace, like a live camera (default: as fast as they are tracked)");
+  cmd->add_flag("--no-loop-closing", cli->no_loop_closing,
+                "Switch loop closing off (ablations); relocalization stays");
+  cmd->add_option("--vocabulary", cli->vocabulary,
+                  "Bag-of-words vocabulary (lrdslam vocab train); default: the shipped vocab/orb_vocab.lrdv");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->callback([cli] {
     runner::RunOptions o;
@@ -114,6 +127,8 @@ void register_run_command(CLI::App& app) {
     if (!cli->save_masks.empty()) o.save_masks = cli->save_masks;
     if (!cli->save_repaired.empty()) o.save_repaired = cli->save_repaired;
     o.dense = cli->dense;
+    o.no_loop_closing = cli->no_loop_closing;
+    if (!cli->vocabulary.empty()) o.vocabulary = cli->vocabulary;
     o.realtime = cli->realtime;
     o.progress = !cli->quiet;
     const runner::RunReport r = runner::run_sequence(o);

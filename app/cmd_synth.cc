@@ -28,6 +28,10 @@ void register_synth_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--frames", opts->frames, "Number of frames (default: the preset's length; a prefix of it)");
   cmd->add_flag("--motion-blur", opts->motion_blur, "Average 5 sub-frames over a 1/60 s exposure");
+  auto blank = std::make_shared<std::string>();
+  cmd->add_option("--blank", *blank,
+                  "START:COUNT - frames START.. are black without depth (a covered lens) while the camera moves on: "
+                  "a relocalization test");
   cmd->add_flag("--list", *list, "List the presets and exit");
   auto voc_dir = std::make_shared<std::string>();
   auto voc_images = std::make_shared<int>(2000);
@@ -36,7 +40,15 @@ void register_synth_command(CLI::App& app) {
                   "folder (frames of every preset; seeds from --seed, default 1000, disjoint from evaluation seeds)");
   cmd->add_option("--images", *voc_images, "With --export-voc: number of images")->capture_default_str();
   auto* seed_opt = cmd->get_option("--seed");
-  cmd->callback([opts, out, list, voc_dir, voc_images, seed_opt] {
+  cmd->callback([opts, out, list, voc_dir, voc_images, seed_opt, blank] {
+    if (!blank->empty()) {
+      int from = -1, count = -1;
+      char rest = 0;
+      if (std::sscanf(blank->c_str(), "%d:%d%c", &from, &count, &rest) != 2 || from < 0 || count <= 0)
+        throw Error("synth: --blank expects START:COUNT with START >= 0 and COUNT > 0, got '" + *blank + "'");
+      opts->blank_from = from;
+      opts->blank_count = count;
+    }
     if (!voc_dir->empty()) {
       synth::VocExportOptions v;
       v.images = *voc_images;

@@ -16,12 +16,16 @@
 #include "lrd/features/orb_extractor.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
+#include "lrd/loop/loop_closer.h"
 #include "lrd/mapping/local_mapper.h"
+#include "lrd/place/keyframe_database.h"
+#include "lrd/place/vocabulary.h"
 #include "lrd/segmentation/mask_folder_segmenter.h"
 #include "lrd/segmentation/onnx_segmenter.h"
 #include "lrd/segmentation/segmentation_worker.h"
 #include "lrd/tracking/tracker.h"
 #include "lrd/util/error.h"
+#include "lrd/util/project_files.h"
 
 namespace lrd {
 
@@ -33,6 +37,18 @@ std::string describe(const cv::Mat& m) {
   return fmt::format("{}x{} {}", m.cols, m.rows, cv::typeToString(m.type()));
 }
 
+
+// Vocabularies are shared between systems of one process (tests and benchmarks build many).
+std::shared_ptr<const place::Vocabulary> load_vocabulary(const std::filesystem::path& file) {
+  static std::mutex mutex;
+  static std::map<std::filesystem::path, std::weak_ptr<const place::Vocabulary>> cache;
+  std::lock_guard lock(mutex);
+  const std::filesystem::path key = std::filesystem::absolute(file).lexically_normal();
+  if (auto v = cache[key].lock()) return v;
+  auto v = std::make_shared<const place::Vocabulary>(place::Vocabulary::load(file));
+  cache[key] = v;
+  return v;
+}
 
 std::unique_ptr<segmentation::Segmenter> make_segmenter(const segmentation::SegmentationParams& p) {
   switch (p.backend) {
@@ -50,6 +66,7 @@ struct RecentFrame {
   std::optional<Eigen::Isometry3d> T_cw;
 };
 constexpr std::size_t kRecentFrames = 30;
+constexpr const char* kShippedVocabulary = "vocab/orb_vocab.lrdv";
 }  // namespace
 
 struct System::Impl {
@@ -63,9 +80,29 @@ struct System::Impl {
                                                                                        : cfg.file.parent_path())),
         extractor(cfg.features),
         undistorter(cfg.camera),
+        loop_params(loop::LoopClosingParams::from_config(
+            cfg.loop_closing, cfg.file.empty() ? std::filesystem::path{} : cfg.file.parent_path())),
         mapper(map, mapping::LocalMapperParams::from_config(cfg.mapping), !opts.deterministic),
         tracker(map, mapper, tracking::TrackerParams::from_config(cfg.tracking)),
         filter(dynamic_params.geometry) {
+    if (opts.loop_closing) loop_params.enabled = *opts.loop_closing;
+    if (opts.vocabulary) loop_params.vocabulary = *opts.vocabulary;
+    // Place recognition: relocalization always, loop closing unless switched off. The shipped
+    // vocabulary is optional (a library user may run without it); a configured one must load.
+    vocabulary_file = loop_params.vocabulary.empty() ? util::find_project_file(kShippedVocabulary)
+                                                     : loop_params.vocabulary;
+    if (!loop_params.vocabulary.empty() || std::filesystem::exists(vocabulary_file)) {
+      vocabulary = load_vocabulary(vocabulary_file);
+      tracker.set_place_recognition(vocabulary.get(), &database);
+      mapper.set_place_recognition(vocabulary.get(), &database);
+      if (loop_params.enabled) {
+        loop_closer = std::make_unique<loop::LoopCloser>(map, database, mapper, loop_params, !opts.deterministic);
+        mapper.set_keyframe_callback([this](map::KeyFrame* kf) { loop_closer->insert_keyframe(kf); });
+      }
+    } else {
+      spdlog::warn("no vocabulary at {}: no relocalization or loop closing", vocabulary_file.string());
+      vocabulary_file.clear();
+    }
     if (opts.mode) dynamic_params.mode = *opts.mode;
     if (opts.deterministic) segmentation_params.schedule = segmentation::Schedule::Sync;
     const dynamic::DynamicMode mode = dynamic_params.mode;
@@ -144,10 +181,15 @@ struct System::Impl {
   features::OrbExtractor extractor;
   features::KeypointUndistorter undistorter;
   map::Map map;
+  loop::LoopClosingParams loop_params;
+  std::filesystem::path vocabulary_file;
+  std::shared_ptr<const place::Vocabulary> vocabulary;
+  place::KeyFrameDatabase database;
   mapping::LocalMapper mapper;
   tracking::Tracker tracker;
   dynamic::DynamicPointFilter filter;
   std::unique_ptr<segmentation::SegmentationWorker> worker;
+  std::unique_ptr<loop::LoopCloser> loop_closer;  // after `mapper`: destroyed first
   std::unique_ptr<dense::DenseMapper> dense;  // before `map` is destroyed: it reads keyframe poses
   std::deque<RecentFrame> recent;
   cv::Mat current_depth;  // the frame being tracked, for the geometry check
@@ -174,6 +216,7 @@ void System::shutdown() {
   impl_->shut_down = true;
   if (impl_->worker) impl_->worker->shutdown();
   impl_->mapper.shutdown();
+  if (impl_->loop_closer) impl_->loop_closer->shutdown();
   if (impl_->dense) impl_->dense->shutdown();
 }
 
@@ -273,6 +316,7 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
   }
   if (s.options.deterministic) {
     s.mapper.process_queued();
+    if (s.loop_closer) s.loop_closer->process_queued();
     if (s.dense) s.dense->process_queued();
   }
   const auto t3 = Clock::now();
@@ -331,7 +375,24 @@ MapStats System::map_stats() const {
   const auto ms = impl_->mapper.stats();
   m.culled_keyframes = ms.culled_keyframes;
   m.bundle_adjustments = ms.bundle_adjustments;
+  if (impl_->loop_closer) {
+    const auto ls = impl_->loop_closer->stats();
+    m.loops = ls.loops.size();
+    m.global_bundle_adjustments = ls.global_bundle_adjustments;
+  }
+  {
+    std::lock_guard lock(impl_->map.mutex());
+    m.relocalizations = impl_->tracker.relocalizations();
+  }
   return m;
 }
+
+std::vector<loop::LoopEvent> System::loops() const {
+  return impl_->loop_closer ? impl_->loop_closer->stats().loops : std::vector<loop::LoopEvent>{};
+}
+
+bool System::loop_closing_enabled() const { return impl_->loop_closer != nullptr; }
+
+std::filesystem::path System::vocabulary_file() const { return impl_->vocabulary_file; }
 
 }  // namespace lrd

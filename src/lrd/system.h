@@ -19,6 +19,7 @@
 #include "lrd/dense/dense_mapper.h"
 #include "lrd/dynamic/dynamic_params.h"
 #include "lrd/io/trajectory.h"
+#include "lrd/loop/loop_closer.h"
 #include "lrd/segmentation/segmentation_params.h"
 #include "lrd/tracking/tracking_state.h"
 
@@ -37,6 +38,9 @@ struct SystemOptions {
   std::optional<segmentation::SegmentationParams> segmentation;
   // Replaces the config's dense.enabled (the CLI's --dense): background repair and the dense map.
   std::optional<bool> dense;
+  // Replaces the config's loop_closing.enabled (the CLI's --no-loop-closing) and vocabulary.
+  std::optional<bool> loop_closing;
+  std::optional<std::filesystem::path> vocabulary;
 };
 
 // Where the time of one frame went, in seconds.
@@ -74,6 +78,9 @@ struct MapStats {
   std::size_t map_points = 0;
   std::size_t culled_keyframes = 0;
   std::size_t bundle_adjustments = 0;
+  std::size_t loops = 0;           // loops closed
+  int relocalizations = 0;         // times tracking was lost and relocalized
+  int global_bundle_adjustments = 0;
 };
 
 class System {
@@ -101,6 +108,11 @@ class System {
   void save_keyframe_trajectory_tum(const std::filesystem::path& file) const;
 
   [[nodiscard]] MapStats map_stats() const;
+  // Each loop closed so far (frame, keyframes, inliers, correction).
+  [[nodiscard]] std::vector<loop::LoopEvent> loops() const;
+  [[nodiscard]] bool loop_closing_enabled() const;
+  // Place recognition (relocalization; loop closing): the vocabulary file in use, or empty.
+  [[nodiscard]] std::filesystem::path vocabulary_file() const;
   [[nodiscard]] TrackingState state() const;
   [[nodiscard]] const config::Config& config() const;
   [[nodiscard]] dynamic::DynamicMode mode() const;

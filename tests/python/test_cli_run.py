@@ -74,3 +74,26 @@ def test_realtime_feeds_frames_at_the_cameras_pace(sequence, tmp_path):
     s = json.loads((tmp_path / "summary.json").read_text())
     assert s["frames"] == 45
     assert s["wall_seconds"] >= 44 / 30.0 - 0.01  # 45 frames at 30 Hz span 1.47 s
+
+
+def test_summary_reports_place_recognition(sequence, tmp_path):
+    on = tmp_path / "on"
+    r = lrdslam("run", "--sequence", sequence, "--out", on, "--quiet", "--max-frames", 30)
+    assert "loop closing on" in r.stdout
+    s = json.loads((on / "summary.json").read_text())
+    assert s["loop_closing"] is True
+    assert s["vocabulary"].endswith("orb_vocab.lrdv")
+    assert s["loops"] == [] and s["relocalizations"] == 0  # 30 frames of a static sweep: nothing to close
+    off = tmp_path / "off"
+    r = lrdslam("run", "--sequence", sequence, "--out", off, "--quiet", "--max-frames", 30, "--no-loop-closing")
+    assert "loop closing off" in r.stdout
+    assert json.loads((off / "summary.json").read_text())["loop_closing"] is False
+
+
+def test_corrupt_vocabulary_is_a_one_line_error(sequence, tmp_path):
+    bad = tmp_path / "bad.lrdv"
+    bad.write_bytes(b"not a vocabulary at all")
+    r = lrdslam("run", "--sequence", sequence, "--out", tmp_path / "o", "--quiet", "--vocabulary", bad, check=False)
+    assert r.returncode != 0
+    lines = [l for l in r.stderr.splitlines() if l.startswith("error")]
+    assert len(lines) == 1 and str(bad) in lines[0]

@@ -137,6 +137,7 @@ Config load_config(const std::filesystem::path& path) {
   cfg.dynamic = top.section("dynamic");
   cfg.segmentation = top.section("segmentation");
   cfg.dense = top.section("dense");
+  cfg.loop_closing = top.section("loop_closing");
   top.finish();
   return cfg;
 }

@@ -34,6 +34,7 @@ struct Config {
   NodeReader dynamic;
   NodeReader segmentation;
   NodeReader dense;
+  NodeReader loop_closing;
 };
 
 // Reads and validates `path`. Throws lrd::Error ("FILE[:LINE]: problem") for a missing file,

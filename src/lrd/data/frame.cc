@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lrd/place/vocabulary.h"
 #include "lrd/util/error.h"
 
 namespace lrd::data {
@@ -46,6 +47,11 @@ Frame::Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::
   build_grid();
 }
 
+void Frame::compute_bow(const place::Vocabulary& vocabulary) {
+  if (!bow.empty()) return;
+  vocabulary.transform(descriptors_, bow, bow_features, kBowLevelsUp);
+}
+
 void Frame::remove_keypoints(const std::vector<bool>& drop) {
   const std::size_t n = keypoints_.size();
   if (drop.size() != n) throw Error("frame: remove_keypoints needs one flag per keypoint");
@@ -71,6 +77,9 @@ void Frame::remove_keypoints(const std::vector<bool>& drop) {
   u_right_.resize(kept);
   map_points.resize(kept);
   outliers.resize(kept);
+  // Keypoint indices changed: the direct index no longer fits.
+  bow.clear();
+  bow_features.clear();
   build_grid();
 }
 

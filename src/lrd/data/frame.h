@@ -13,10 +13,14 @@
 #include "lrd/features/keypoint_undistorter.h"
 #include "lrd/features/orb_extractor.h"
 #include "lrd/geometry/se3.h"
+#include "lrd/place/bow_vector.h"
 
 namespace lrd::map {
 class MapPoint;
 }  // namespace lrd::map
+namespace lrd::place {
+class Vocabulary;
+}
 
 namespace lrd::data {
 
@@ -74,6 +78,16 @@ class Frame {
   // Pixels judged dynamic (CV_8UC1, nonzero; empty: none): the segmentation mask and the
   // geometric check's regions. Kept with keyframes for mapping, loop closing and the dense map.
   cv::Mat dynamic_mask;
+
+  // Bag-of-words of the descriptors (relocalization, loop closing); empty until compute_bow().
+  // bow_features groups keypoints by vocabulary node kBowLevelsUp levels above the words, the
+  // direct index that restricts descriptor matching to keypoints under the same node: with the
+  // shipped 5-level vocabulary, the 100 nodes of depth 2 (as ORB-SLAM2's 4 up from its 6 levels).
+  static constexpr int kBowLevelsUp = 3;
+  void compute_bow(const place::Vocabulary& vocabulary);
+  [[nodiscard]] bool has_bow() const { return !bow.empty(); }
+  place::BowVector bow;
+  place::FeatureVector bow_features;
 
   void set_pose(const Eigen::Isometry3d& T_cw) { T_cw_ = geometry::orthonormalized(T_cw); }
   [[nodiscard]] bool has_pose() const { return T_cw_.has_value(); }

@@ -34,6 +34,11 @@ class KeyFrame {
   [[nodiscard]] const data::Frame& features() const { return frame_; }
   [[nodiscard]] std::size_t size() const { return frame_.size(); }
 
+  // Bag-of-words (place recognition): computed once when local mapping takes the keyframe.
+  void compute_bow(const place::Vocabulary& vocabulary) { frame_.compute_bow(vocabulary); }
+  [[nodiscard]] const place::BowVector& bow() const { return frame_.bow; }
+  [[nodiscard]] const place::FeatureVector& bow_features() const { return frame_.bow_features; }
+
   [[nodiscard]] const Eigen::Isometry3d& T_cw() const { return T_cw_; }
   [[nodiscard]] Eigen::Isometry3d T_wc() const { return T_cw_.inverse(); }
   [[nodiscard]] Eigen::Vector3d camera_center() const { return T_cw_.inverse().translation(); }
@@ -67,7 +72,11 @@ class KeyFrame {
   [[nodiscard]] KeyFrame* parent() const { return parent_; }
   [[nodiscard]] const std::set<KeyFrame*, ById>& children() const { return children_; }
   void change_parent(KeyFrame* parent);
-  void add_loop_edge(KeyFrame* kf) { loop_edges_.insert(kf); }
+  // A keyframe closing a loop is never removed (the loop edge would be lost, as ORB-SLAM2).
+  void add_loop_edge(KeyFrame* kf) {
+    loop_edges_.insert(kf);
+    not_erase_ = true;
+  }
   [[nodiscard]] const std::set<KeyFrame*, ById>& loop_edges() const { return loop_edges_; }
   // Essential-graph neighbours: parent, children, loop edges and covisibles with weight >= min_weight.
   [[nodiscard]] std::vector<KeyFrame*> essential_neighbours(int min_weight = 100) const;
@@ -87,6 +96,13 @@ class KeyFrame {
   std::uint64_t fuse_target_for_kf = UINT64_MAX;
   std::uint64_t local_ba_for_kf = UINT64_MAX;
   std::uint64_t fixed_ba_for_kf = UINT64_MAX;
+  std::uint64_t place_query_for = UINT64_MAX;  // keyframe database: the query that counted it
+  int place_shared_words = 0;
+  double place_score = 0.0;
+  std::uint64_t loop_query_for_kf = UINT64_MAX;  // loop closing: corrected with this loop
+  std::uint64_t global_ba_for = UINT64_MAX;      // global BA: the run that optimized it
+  Eigen::Isometry3d T_cw_global_ba = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_cw_before_global_ba = Eigen::Isometry3d::Identity();
 
  private:
   void update_best_covisibles();

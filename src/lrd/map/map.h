@@ -40,6 +40,12 @@ class Map {
   // Every keyframe ever created, including removed ones (for trajectory output).
   [[nodiscard]] KeyFrame* keyframe_by_creation(std::size_t i) const { return all_keyframes_[i].get(); }
 
+  // Counts corrections of the whole map (loop closure, global BA merge). Local BA, which solves
+  // without the lock, drops its result when this changed meanwhile: its poses predate the
+  // correction and writing them back would undo it (ORB-SLAM2's mnBigChangeIdx).
+  [[nodiscard]] std::uint64_t big_change_index() const { return big_change_index_; }
+  void notify_big_change() { ++big_change_index_; }
+
   // Reset to an empty map (tracking lost right after initialization).
   void clear();
 
@@ -51,6 +57,7 @@ class Map {
   std::map<std::uint64_t, MapPoint*> points_;
   std::uint64_t next_keyframe_id_ = 0;
   std::uint64_t next_point_id_ = 0;
+  std::uint64_t big_change_index_ = 0;
 };
 
 }  // namespace lrd::map

@@ -82,6 +82,10 @@ class MapPoint {
   // Scratch marks of local mapping: the keyframe whose fusion / local BA last included it.
   std::uint64_t fuse_candidate_for_kf = UINT64_MAX;
   std::uint64_t local_ba_for_kf = UINT64_MAX;
+  // Scratch marks of loop closing: the loop (its current keyframe's id) that moved the point, and
+  // the keyframe whose correction it followed.
+  std::uint64_t loop_corrected_for = UINT64_MAX;
+  KeyFrame* loop_corrected_by = nullptr;
 
  private:
   std::uint64_t id_;

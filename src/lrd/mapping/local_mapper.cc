@@ -9,6 +9,7 @@
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
 #include "lrd/map/map_point.h"
+#include "lrd/place/keyframe_database.h"
 
 namespace lrd::mapping {
 
@@ -48,30 +49,14 @@ LocalMapper::LocalMapper(map::Map& map, LocalMapperParams params, bool threaded)
 LocalMapper::~LocalMapper() { shutdown(); }
 
 void LocalMapper::insert_keyframe(map::KeyFrame* kf) {
-  {
-    std::lock_guard lock(queue_mutex_);
-    queue_.push_back(kf);
-  }
+  queue_.push(kf);
   abort_ba_.store(true);
-  queue_cv_.notify_one();
 }
 
-std::size_t LocalMapper::queued() const {
-  std::lock_guard lock(queue_mutex_);
-  return queue_.size();
-}
+std::size_t LocalMapper::queued() const { return queue_.size(); }
 
 void LocalMapper::process_queued() {
-  for (;;) {
-    map::KeyFrame* kf;
-    {
-      std::lock_guard lock(queue_mutex_);
-      if (queue_.empty()) return;
-      kf = queue_.front();
-      queue_.pop_front();
-    }
-    process(kf);
-  }
+  while (const auto kf = queue_.try_pop()) process(*kf);
 }
 
 void LocalMapper::shutdown() {
@@ -79,11 +64,7 @@ void LocalMapper::shutdown() {
     process_queued();
     return;
   }
-  {
-    std::lock_guard lock(queue_mutex_);
-    stop_ = true;
-  }
-  queue_cv_.notify_all();
+  queue_.stop();
   if (thread_.joinable()) thread_.join();
 }
 
@@ -93,17 +74,9 @@ LocalMapperStats LocalMapper::stats() const {
 }
 
 void LocalMapper::run() {
-  for (;;) {
-    map::KeyFrame* kf;
-    {
-      std::unique_lock lock(queue_mutex_);
-      queue_cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
-      if (queue_.empty()) return;  // stop requested and nothing left
-      kf = queue_.front();
-      queue_.pop_front();
-      accepting_.store(false);
-    }
-    process(kf);
+  // Busy from the moment a keyframe leaves the queue (tracking asks before proposing another).
+  while (const auto kf = queue_.wait_pop([this] { accepting_.store(false); })) {
+    process(*kf);
     accepting_.store(true);
   }
 }
@@ -127,14 +100,21 @@ void LocalMapper::process(map::KeyFrame* kf) {
     }
     if (params_.keyframe_culling) cull_keyframes(kf);
   }
-  std::lock_guard lock(stats_mutex_);
-  ++stats_.keyframes;
-  stats_.busy_seconds += seconds_since(t0);
+  {
+    std::lock_guard lock(stats_mutex_);
+    ++stats_.keyframes;
+    stats_.busy_seconds += seconds_since(t0);
+  }
+  if (keyframe_callback_) keyframe_callback_(kf);
 }
 
 void LocalMapper::process_new_keyframe(map::KeyFrame* kf) {
   std::lock_guard lock(map_.mutex());
   if (kf->is_bad()) return;
+  if (vocabulary_ != nullptr && database_ != nullptr) {
+    kf->compute_bow(*vocabulary_);
+    database_->add(kf);
+  }
   const auto& points = kf->map_points();
   for (std::size_t i = 0; i < points.size(); ++i) {
     map::MapPoint* mp = points[i];

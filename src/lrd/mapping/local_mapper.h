@@ -8,9 +8,8 @@
 // runs) process_queued() does the same work in the caller's thread after each keyframe, so that
 // the result does not depend on thread timing.
 #include <atomic>
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
+#include <functional>
 #include <list>
 #include <mutex>
 #include <thread>
@@ -18,6 +17,7 @@
 #include "lrd/config/node_reader.h"
 #include "lrd/match/orb_matcher.h"
 #include "lrd/optim/local_bundle_adjuster.h"
+#include "lrd/util/work_queue.h"
 
 namespace lrd::map {
 class KeyFrame;
@@ -25,6 +25,10 @@ class Map;
 class MapPoint;
 }  // namespace lrd::map
 
+namespace lrd::place {
+class KeyFrameDatabase;
+class Vocabulary;
+}  // namespace lrd::place
 namespace lrd::mapping {
 
 struct LocalMapperParams {
@@ -59,6 +63,16 @@ class LocalMapper {
   LocalMapper(const LocalMapper&) = delete;
   LocalMapper& operator=(const LocalMapper&) = delete;
 
+  // Place recognition: each keyframe's bag of words is computed and indexed in `database` when
+  // the keyframe is processed. Set before the first keyframe.
+  void set_place_recognition(const place::Vocabulary* vocabulary, place::KeyFrameDatabase* database) {
+    vocabulary_ = vocabulary;
+    database_ = database;
+  }
+  // Called (in the mapping thread, map mutex not held) with each keyframe once processed and still
+  // in the map: loop closing takes it from there. Set before the first keyframe.
+  using KeyFrameCallback = std::function<void(map::KeyFrame*)>;
+  void set_keyframe_callback(KeyFrameCallback callback) { keyframe_callback_ = std::move(callback); }
   // Called by tracking (which may hold the map mutex: only the queue's own lock is taken).
   void insert_keyframe(map::KeyFrame* kf);
   // Idle and ready for a keyframe (ORB-SLAM2's AcceptKeyFrames).
@@ -88,12 +102,12 @@ class LocalMapper {
   const LocalMapperParams params_;
   const bool threaded_;
   match::OrbMatcher matcher_;
+  const place::Vocabulary* vocabulary_ = nullptr;
+  place::KeyFrameDatabase* database_ = nullptr;
+  KeyFrameCallback keyframe_callback_;
   std::list<map::MapPoint*> recent_points_;  // this thread only
 
-  mutable std::mutex queue_mutex_;
-  std::condition_variable queue_cv_;
-  std::deque<map::KeyFrame*> queue_;
-  bool stop_ = false;
+  util::WorkQueue<map::KeyFrame*> queue_;
   std::atomic<bool> accepting_{true};
   std::atomic<bool> abort_ba_{false};
   mutable std::mutex stats_mutex_;

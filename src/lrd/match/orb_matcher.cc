@@ -1,5 +1,6 @@
 #include "lrd/match/orb_matcher.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -110,6 +111,50 @@ int OrbMatcher::search_by_projection(data::Frame& current, const std::vector<map
     ++matches;
   }
   return matches;
+}
+
+int OrbMatcher::search_by_projection(const map::KeyFrame& kf, const Eigen::Isometry3d& T_cw,
+                                     const std::vector<map::MapPoint*>& points, std::vector<map::MapPoint*>& matched,
+                                     float th) const {
+  const data::Frame& f = kf.features();
+  const camera::PinholeCamera& cam = f.camera();
+  const Eigen::Vector3d center = T_cw.inverse().translation();
+  const float log_sf = log_scale(f);
+  const int levels = static_cast<int>(f.scale_factors().size());
+  std::vector<map::MapPoint*> already;
+  for (map::MapPoint* mp : matched)
+    if (mp != nullptr) already.push_back(mp);
+  std::sort(already.begin(), already.end());
+  int found = 0;
+  for (map::MapPoint* mp : points) {
+    if (mp == nullptr || mp->is_bad() || std::binary_search(already.begin(), already.end(), mp)) continue;
+    const Eigen::Vector3d pc = T_cw * mp->position();
+    if (pc.z() <= 0.0) continue;
+    const Eigen::Vector2d uv = cam.project(pc);
+    if (!f.in_bounds(uv.x(), uv.y())) continue;
+    const Eigen::Vector3d po = mp->position() - center;
+    const float dist = static_cast<float>(po.norm());
+    if (dist < mp->min_distance_invariance() || dist > mp->max_distance_invariance()) continue;
+    if (po.dot(mp->normal()) < 0.5 * dist) continue;
+    const int level = mp->predict_scale(dist, log_sf, levels);
+    const float radius = th * f.scale_factors()[static_cast<std::size_t>(level)];
+    int best = 256;
+    std::size_t best_idx = SIZE_MAX;
+    for (const std::size_t j : f.features_in_area(uv.x(), uv.y(), radius)) {
+      if (matched[j] != nullptr) continue;
+      const int kp_level = f.undistorted()[j].octave;
+      if (kp_level < level - 1 || kp_level > level) continue;
+      const int d = descriptor_distance(mp->descriptor(), f.descriptors().row(static_cast<int>(j)));
+      if (d < best) {
+        best = d;
+        best_idx = j;
+      }
+    }
+    if (best_idx == SIZE_MAX || best > kThLow) continue;
+    matched[best_idx] = mp;
+    ++found;
+  }
+  return found;
 }
 
 int OrbMatcher::search_by_descriptor(const map::KeyFrame& kf, data::Frame& current) const {

@@ -3,6 +3,7 @@
 // RGB-D cases): Hamming distance with thresholds, Lowe's ratio test, the rotation-consistency
 // histogram, and searches guided by projection with a radius that grows with the pyramid level.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <utility>
 #include <vector>
@@ -37,6 +38,12 @@ class OrbMatcher {
   // caller) to unmatched keypoints of `current`; radius th * (2.5 | 4 by viewing angle) * scale.
   int search_by_projection(data::Frame& current, const std::vector<map::MapPoint*>& points, float th) const;
 
+  // Loop closing: projects `points` into `kf` at the pose `T_cw` (the loop-corrected one, not the
+  // keyframe's own) and matches them to keypoints without an entry in `matched` (one slot per kf
+  // keypoint; filled here). Radius th * scale; distance up to kThLow. Returns new matches.
+  int search_by_projection(const map::KeyFrame& kf, const Eigen::Isometry3d& T_cw,
+                           const std::vector<map::MapPoint*>& points, std::vector<map::MapPoint*>& matched,
+                           float th) const;
   // Reference keyframe: nearest-neighbour descriptor matching of the keyframe's map points
   // against all keypoints of `current` (ratio test, kThLow, rotation check). No pose needed.
   int search_by_descriptor(const map::KeyFrame& kf, data::Frame& current) const;

@@ -1,8 +1,5 @@
 #include "lrd/optim/local_bundle_adjuster.h"
 
-#include <ceres/ceres.h>
-#include <ceres/rotation.h>
-
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
@@ -13,154 +10,9 @@
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
 #include "lrd/map/map_point.h"
+#include "lrd/optim/ba_problem.h"
 
 namespace lrd::optim {
-namespace {
-
-// Pose block: angle-axis rotation (3) then translation (3) of T_cw.
-using PoseBlock = std::array<double, 6>;
-using PointBlock = std::array<double, 3>;
-
-PoseBlock to_block(const Eigen::Isometry3d& T) {
-  PoseBlock b{};
-  const Eigen::AngleAxisd aa(T.rotation());
-  const Eigen::Vector3d w = aa.angle() * aa.axis();
-  b = {w.x(), w.y(), w.z(), T.translation().x(), T.translation().y(), T.translation().z()};
-  return b;
-}
-
-Eigen::Isometry3d from_block(const PoseBlock& b) {
-  const Eigen::Vector3d w(b[0], b[1], b[2]);
-  const double angle = w.norm();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (angle > 0) T.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-  T.translation() = Eigen::Vector3d(b[3], b[4], b[5]);
-  return T;
-}
-
-struct Intrinsics {
-  double fx, fy, cx, cy, bf;
-};
-
-// Residual sqrt(1/sigma^2) * (observed - projected), 2 entries (mono) or 3 (with u_right).
-template <int N>
-struct ReprojectionError {
-  Intrinsics k;
-  double u, v, ur, sqrt_info;
-  template <class T>
-  bool operator()(const T* pose, const T* point, T* residual) const {
-    T p[3];
-    ceres::AngleAxisRotatePoint(pose, point, p);
-    p[0] += pose[3];
-    p[1] += pose[4];
-    p[2] += pose[5];
-    const T iz = T(1.0) / p[2];
-    const T pu = k.fx * p[0] * iz + k.cx;
-    residual[0] = (u - pu) * sqrt_info;
-    residual[1] = (v - (k.fy * p[1] * iz + k.cy)) * sqrt_info;
-    if constexpr (N == 3) residual[2] = (ur - (pu - k.bf * iz)) * sqrt_info;
-    return true;
-  }
-};
-
-struct Observation {
-  std::size_t kf;     // index into the pose blocks (local then fixed)
-  std::size_t point;  // index into the point blocks
-  std::size_t keypoint;
-  double u, v, ur, inv_sigma2;
-  bool outlier = false;
-};
-
-class AbortCallback : public ceres::IterationCallback {
- public:
-  explicit AbortCallback(const std::atomic<bool>* abort) : abort_(abort) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
-    return abort_ != nullptr && abort_->load() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  const std::atomic<bool>* abort_;
-};
-
-// chi2 of one observation (unweighted by the kernel) and whether the point is in front.
-double chi2(const Intrinsics& k, const PoseBlock& pose, const PointBlock& point, const Observation& o, bool& front) {
-  double p[3];
-  ceres::AngleAxisRotatePoint(pose.data(), point.data(), p);
-  p[0] += pose[3], p[1] += pose[4], p[2] += pose[5];
-  front = p[2] > 0.0;
-  if (!front) return 1e12;
-  const double iz = 1.0 / p[2];
-  const double pu = k.fx * p[0] * iz + k.cx, pv = k.fy * p[1] * iz + k.cy;
-  double e2 = (o.u - pu) * (o.u - pu) + (o.v - pv) * (o.v - pv);
-  if (o.ur >= 0) e2 += (o.ur - (pu - k.bf * iz)) * (o.ur - (pu - k.bf * iz));
-  return e2 * o.inv_sigma2;
-}
-
-double rms(const Intrinsics& k, const std::vector<PoseBlock>& poses, const std::vector<PointBlock>& points,
-           const std::vector<Observation>& obs) {
-  double sum = 0.0;
-  int n = 0;
-  for (const Observation& o : obs) {
-    if (o.outlier) continue;
-    bool front;
-    const double c = chi2(k, poses[o.kf], points[o.point], o, front);
-    if (!front) continue;
-    sum += c;
-    ++n;
-  }
-  return n > 0 ? std::sqrt(sum / n) : 0.0;
-}
-
-bool solve(const Intrinsics& k, std::vector<PoseBlock>& poses, std::size_t n_local, std::vector<PointBlock>& points,
-           const std::vector<Observation>& obs, const LocalBundleAdjustmentParams& params, bool robust, int iterations,
-           const std::atomic<bool>* abort) {
-  ceres::Problem::Options popts;
-  popts.loss_function_ownership = ceres::TAKE_OWNERSHIP;
-  ceres::Problem problem(popts);
-  auto* ordering = new ceres::ParameterBlockOrdering;
-  for (const Observation& o : obs) {
-    if (o.outlier) continue;
-    ceres::LossFunction* loss = nullptr;
-    ceres::CostFunction* cost;
-    const double sqrt_info = std::sqrt(o.inv_sigma2);
-    if (o.ur >= 0) {
-      cost = new ceres::AutoDiffCostFunction<ReprojectionError<3>, 3, 6, 3>(
-          new ReprojectionError<3>{k, o.u, o.v, o.ur, sqrt_info});
-      if (robust) loss = new ceres::HuberLoss(std::sqrt(params.chi2_stereo));
-    } else {
-      cost = new ceres::AutoDiffCostFunction<ReprojectionError<2>, 2, 6, 3>(
-          new ReprojectionError<2>{k, o.u, o.v, -1.0, sqrt_info});
-      if (robust) loss = new ceres::HuberLoss(std::sqrt(params.chi2_mono));
-    }
-    problem.AddResidualBlock(cost, loss, poses[o.kf].data(), points[o.point].data());
-  }
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    if (!problem.HasParameterBlock(poses[i].data())) continue;
-    ordering->AddElementToGroup(poses[i].data(), 1);
-    if (i >= n_local) problem.SetParameterBlockConstant(poses[i].data());
-  }
-  for (PointBlock& p : points)
-    if (problem.HasParameterBlock(p.data())) ordering->AddElementToGroup(p.data(), 0);
-  if (problem.NumResidualBlocks() == 0) {
-    delete ordering;
-    return true;
-  }
-
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_SCHUR;
-  options.linear_solver_ordering.reset(ordering);
-  options.max_num_iterations = iterations;
-  options.num_threads = 1;  // deterministic, and tracking has the other core
-  options.logging_type = ceres::SILENT;
-  options.minimizer_progress_to_stdout = false;
-  AbortCallback callback(abort);
-  options.callbacks.push_back(&callback);
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  return summary.termination_type != ceres::USER_FAILURE;
-}
-
-}  // namespace
 
 LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map::Map& map,
                                                    const std::atomic<bool>* abort,
@@ -173,9 +25,11 @@ LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map:
   std::vector<Observation> obs;
   std::size_t n_local = 0;
   Intrinsics k{};
+  std::uint64_t change_index = 0;
   {
     std::lock_guard lock(map.mutex());
     if (keyframe->is_bad()) return stats;
+    change_index = map.big_change_index();
     const camera::PinholeCamera& cam = keyframe->features().camera();
     k = {cam.fx, cam.fy, cam.cx, cam.cy, cam.bf};
     const std::uint64_t tag = keyframe->id();
@@ -215,10 +69,7 @@ LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map:
       for (const auto& [kf, idx] : mps[p]->observations()) {
         const auto it = index.find(kf);
         if (it == index.end()) continue;
-        const data::Frame& f = kf->features();
-        const cv::KeyPoint& kp = f.undistorted()[idx];
-        obs.push_back({it->second, p, idx, kp.pt.x, kp.pt.y, f.u_right(idx),
-                       f.inv_level_sigma2()[static_cast<std::size_t>(kp.octave)]});
+        obs.push_back(make_observation(it->second, p, kf->features(), idx));
       }
     }
   }
@@ -243,24 +94,28 @@ LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map:
   }
   stats.initial_rms_px = rms(k, poses, points, obs);
 
-  if (!solve(k, poses, n_local, points, obs, params, true, params.first_iterations, abort)) stats.aborted = true;
+  BaSolveOptions opts;
+  opts.chi2_mono = params.chi2_mono;
+  opts.chi2_stereo = params.chi2_stereo;
+  opts.abort = abort;
+  opts.iterations = params.first_iterations;
+  if (!solve(k, poses, n_local, points, obs, opts)) stats.aborted = true;
   if (!stats.aborted) {
-    for (Observation& o : obs) {
-      bool front;
-      const double c = chi2(k, poses[o.kf], points[o.point], o, front);
-      o.outlier = !front || c > (o.ur >= 0 ? params.chi2_stereo : params.chi2_mono);
-    }
-    if (!solve(k, poses, n_local, points, obs, params, false, params.second_iterations, abort)) stats.aborted = true;
+    classify_outliers(k, poses, points, obs, params.chi2_mono, params.chi2_stereo);
+    opts.robust = false;
+    opts.iterations = params.second_iterations;
+    if (!solve(k, poses, n_local, points, obs, opts)) stats.aborted = true;
   }
   // Final classification on the result (ORB-SLAM2 also erases these after an aborted round).
-  for (Observation& o : obs) {
-    bool front;
-    const double c = chi2(k, poses[o.kf], points[o.point], o, front);
-    o.outlier = !front || c > (o.ur >= 0 ? params.chi2_stereo : params.chi2_mono);
-  }
+  classify_outliers(k, poses, points, obs, params.chi2_mono, params.chi2_stereo);
   stats.final_rms_px = rms(k, poses, points, obs);
 
   std::lock_guard lock(map.mutex());
+  if (map.big_change_index() != change_index) {
+    // A loop closure or global BA moved the map while this solved: its poses are stale.
+    stats.aborted = true;
+    return stats;
+  }
   for (const Observation& o : obs) {
     if (!o.outlier) continue;
     ++stats.outliers;

@@ -151,6 +151,10 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       {"map_points", r.map.map_points},
       {"culled_keyframes", r.map.culled_keyframes},
       {"bundle_adjustments", r.map.bundle_adjustments},
+      {"relocalizations", r.map.relocalizations},
+      {"loop_closing", r.loop_closing},
+      {"vocabulary", r.vocabulary},
+      {"global_bundle_adjustments", r.map.global_bundle_adjustments},
       {"mode", r.mode},
       {"segmentation", r.segmentation},
       {"mean_mask_age", r.mean_mask_age},
@@ -167,6 +171,14 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       {"decode_seconds", r.decode_seconds},
       {"io_wait_seconds", r.io_wait_seconds},
   };
+  j["loops"] = nlohmann::json::array();
+  for (const loop::LoopEvent& e : r.loops)
+    j["loops"].push_back({{"frame", e.frame_id},
+                          {"timestamp", e.timestamp},
+                          {"keyframe", e.keyframe_id},
+                          {"loop_keyframe", e.loop_keyframe_id},
+                          {"inliers", e.inliers},
+                          {"correction_m", e.correction_m}});
   if (r.has_ground_truth) {
     j["ate"] = {{"rmse", r.ate_rmse}, {"mean", r.ate_mean}, {"median", r.ate_median}, {"max", r.ate_max},
                 {"pairs", r.ate_pairs}};
@@ -269,6 +281,8 @@ RunReport run_sequence(const RunOptions& o) {
     if (name) sopts.segmentation = segmenter_preset(*name, o.sequence, seg, o.segmenter_model.value_or(fs::path{}));
   }
   if (o.dense || o.save_repaired) sopts.dense = true;
+  if (o.no_loop_closing) sopts.loop_closing = false;
+  if (o.vocabulary) sopts.vocabulary = *o.vocabulary;
   // Declared before the system, so it outlives the dense thread that calls it (also on errors).
   std::optional<RepairRecorder> repairs;
   System slam(cfg, sopts);
@@ -279,6 +293,8 @@ RunReport run_sequence(const RunOptions& o) {
     });
   }
   report.mode = dynamic::to_string(slam.mode());
+  report.loop_closing = slam.loop_closing_enabled();
+  report.vocabulary = slam.vocabulary_file().string();
   report.segmentation = slam.segmentation_description();
 
   // Ground-truth masks (synthetic benchmark): score the dynamic flags on every n-th frame
@@ -376,6 +392,7 @@ RunReport run_sequence(const RunOptions& o) {
   report.mapping = summarize(map);
   report.total = summarize(tot);
   report.map = slam.map_stats();
+  report.loops = slam.loops();
 
   const io::Trajectory trajectory = slam.trajectory();
   io::write_trajectory_tum(o.out / "CameraTrajectory.txt", trajectory);

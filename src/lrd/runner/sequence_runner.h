@@ -40,6 +40,9 @@ struct RunOptions {
   // Feed frames no faster than their timestamps (a live camera) instead of as fast as they are
   // tracked: the cores then have the idle time a real camera leaves the background threads.
   bool realtime = false;
+  // --no-loop-closing (ablations; relocalization stays), --vocabulary FILE.
+  bool no_loop_closing = false;
+  std::optional<std::filesystem::path> vocabulary;
   int flag_eval_stride = 5;    // with ground-truth masks: judge the dynamic flags on every n-th frame
   bool progress = true;        // progress bar on stderr
 };
@@ -110,6 +113,9 @@ struct RunReport {
   std::size_t lost = 0;
   std::size_t not_initialized = 0;
   MapStats map;
+  std::vector<loop::LoopEvent> loops;
+  bool loop_closing = false;
+  std::string vocabulary;  // file in use ("" : none)
   std::string mode;          // static | semantic | geometric | full
   std::string segmentation;  // backend and schedule
   StageSummary extraction, segmentation_time, mask_wait, geometry, tracking, waiting, mapping,

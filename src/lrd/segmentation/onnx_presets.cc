@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include "lrd/util/error.h"
+#include "lrd/util/project_files.h"
 
 namespace lrd::segmentation {
 
@@ -17,21 +18,6 @@ const std::vector<std::string>& onnx_preset_names() {
 bool is_onnx_preset(const std::string& name) {
   const auto& n = onnx_preset_names();
   return std::find(n.begin(), n.end(), name) != n.end();
-}
-
-fs::path find_project_file(const fs::path& relative) {
-  if (relative.is_absolute()) return relative;
-  std::vector<fs::path> roots{fs::path{}};
-  if (const char* env = std::getenv("LRD_MODEL_ROOT"); env != nullptr && *env != '\0') roots.emplace_back(env);
-  fs::path source_root;
-#ifdef LRD_SOURCE_DIR
-  source_root = LRD_SOURCE_DIR;
-  roots.push_back(source_root);
-#endif
-  std::error_code ec;
-  for (const fs::path& root : roots)
-    if (fs::is_regular_file(root / relative, ec)) return root / relative;
-  return source_root / relative;
 }
 
 namespace {
@@ -70,7 +56,7 @@ OnnxParams voc(int width, int height, const fs::path& file) {
 }  // namespace
 
 OnnxParams onnx_preset(const std::string& name, const fs::path& model) {
-  const auto pick = [&](const char* shipped) { return model.empty() ? find_project_file(shipped) : model; };
+  const auto pick = [&](const char* shipped) { return model.empty() ? util::find_project_file(shipped) : model; };
   if (name == "fnet") return voc(320, 240, pick("models/fnet-lite.onnx"));  // RGB / 255, no mean/std
   if (name == "selfie" || name == "selfie-landscape") {
     const bool landscape = name == "selfie-landscape";

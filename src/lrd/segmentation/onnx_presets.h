@@ -23,9 +23,5 @@ namespace lrd::segmentation {
 // a selfie model has not been converted yet (saying how); OnnxSegmenter checks the file itself.
 [[nodiscard]] OnnxParams onnx_preset(const std::string& name, const std::filesystem::path& model = {});
 
-// A model shipped with (or cached by) the project, given relative to the project root: found
-// relative to the working directory, $LRD_MODEL_ROOT, then the source tree; returns the
-// source-tree path when none has it (so errors name where it belongs).
-[[nodiscard]] std::filesystem::path find_project_file(const std::filesystem::path& relative);
 
 }  // namespace lrd::segmentation

@@ -125,6 +125,8 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
   meta["frames"] = n;
   meta["fps"] = seq.camera().fps;
   meta["motion_blur"] = seq.options().motion_blur;
+  if (seq.options().blank_from >= 0)
+    meta["blank"] = {{"from", seq.options().blank_from}, {"count", seq.options().blank_count}};
   meta["camera"] = {{"fx", seq.camera().fx}, {"fy", seq.camera().fy}, {"cx", seq.camera().cx}, {"cy", seq.camera().cy},
                     {"width", seq.camera().width}, {"height", seq.camera().height},
                     {"depth_map_factor", seq.camera().depth_map_factor}};

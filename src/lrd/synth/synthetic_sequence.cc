@@ -108,6 +108,10 @@ SynthFrame SyntheticSequence::render(int i) const {
   f.static_depth = sensor_->depth_image(static_pass, i);
   f.mask = full_pass.label;
   f.voc_class = full_pass.voc_class;
+  if (options_.blanked(i)) {
+    f.rgb.setTo(cv::Scalar::all(0));
+    f.depth.setTo(cv::Scalar::all(0));
+  }
   return f;
 }
 

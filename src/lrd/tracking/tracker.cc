@@ -33,6 +33,8 @@ TrackerParams TrackerParams::from_config(config::NodeReader r) {
   p.reference_ratio = r.get("reference_ratio", p.reference_ratio);
   r.check(p.reference_ratio > 0 && p.reference_ratio <= 1, "reference_ratio", "must be in (0, 1]");
   p.keyframe_close_points = r.get("keyframe_close_points", p.keyframe_close_points);
+  p.min_relocalization_inliers = r.get("min_relocalization_inliers", p.min_relocalization_inliers);
+  r.check(p.min_relocalization_inliers >= 6, "min_relocalization_inliers", "must be >= 6");
   r.finish();
   return p;
 }
@@ -61,14 +63,16 @@ TrackingState Tracker::track(data::Frame& frame, double* wait_seconds) {
       }
     update_last_frame();
     bool ok;
+    bool relocalized = false;
     if (state_ == TrackingState::Ok) {
       ok = false;
       if (velocity_ && !recently_recovered(frame)) ok = track_with_motion_model(frame);
       if (!ok) ok = track_reference_keyframe(frame);
     } else {
-      // Lost: until relocalization lands, try to recover against the last reference keyframe
-      // from the last known pose.
-      ok = track_reference_keyframe(frame);
+      // Lost: relocalize by place recognition; failing that (or without a vocabulary), try the
+      // last reference keyframe from the last known pose.
+      relocalized = relocalize(frame);
+      ok = relocalized || track_reference_keyframe(frame);
       if (ok) {
         recovered_ = true;
         recovered_frame_id_ = frame.id();
@@ -83,6 +87,7 @@ TrackingState Tracker::track(data::Frame& frame, double* wait_seconds) {
     }
     if (ok) ok = track_local_map(frame);
     state_ = ok ? TrackingState::Ok : TrackingState::Lost;
+    if (ok && relocalized) ++relocalizations_;
     if (ok) {
       velocity_ = frame.T_cw() * last_frame_->T_wc();
       if (need_new_keyframe(frame)) create_new_keyframe(frame);

@@ -25,6 +25,10 @@ class MapPoint;
 namespace lrd::mapping {
 class LocalMapper;
 }
+namespace lrd::place {
+class KeyFrameDatabase;
+class Vocabulary;
+}  // namespace lrd::place
 
 namespace lrd::tracking {
 
@@ -41,7 +45,8 @@ struct TrackerParams {
   int max_frames_between_keyframes = 0;  // 0: the camera's fps
   int min_frames_between_keyframes = 0;
   double reference_ratio = 0.75;  // keyframe when tracked points fall below this share of the reference's
-  int keyframe_close_points = 100;  // new keyframes create points from at least this many close depths
+  int keyframe_close_points = 100;
+  int min_relocalization_inliers = 20;  // after motion-only BA on the PnP inliers  // new keyframes create points from at least this many close depths
   optim::PoseOptimizerParams pose;
 
   // Reads the `tracking` section of the config (and finishes it).
@@ -72,6 +77,13 @@ class Tracker {
   // final pose is optimized without them and they never create map points.
   using DynamicCheck = std::function<void(data::Frame& frame, const std::vector<map::KeyFrame*>& nearby)>;
   void set_dynamic_check(DynamicCheck check) { dynamic_check_ = std::move(check); }
+  // Relocalization when lost (without: only the last reference keyframe is tried again).
+  void set_place_recognition(const place::Vocabulary* vocabulary, place::KeyFrameDatabase* database) {
+    vocabulary_ = vocabulary;
+    database_ = database;
+  }
+  // Frames relocalized so far.
+  [[nodiscard]] int relocalizations() const { return relocalizations_; }
 
   // World-to-camera pose of the next frame by the constant-velocity model (empty when not
   // tracking). Map mutex not needed: it reads the tracker's own state only; call between frames.
@@ -84,6 +96,7 @@ class Tracker {
  private:
   void initialize(data::Frame& frame);
   bool track_reference_keyframe(data::Frame& frame);
+  bool relocalize(data::Frame& frame);  // relocalization.cc
   bool track_with_motion_model(data::Frame& frame);
   bool track_local_map(data::Frame& frame);
   void update_local_keyframes(data::Frame& frame);
@@ -117,6 +130,9 @@ class Tracker {
   std::vector<map::MapPoint*> local_points_;
   std::vector<FrameRecord> records_;
   DynamicCheck dynamic_check_;
+  const place::Vocabulary* vocabulary_ = nullptr;
+  place::KeyFrameDatabase* database_ = nullptr;
+  int relocalizations_ = 0;
 };
 
 }  // namespace lrd::tracking

@@ -1,0 +1,281 @@
+#include "lrd/loop/loop_closer.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <set>
+
+#include "lrd/map/keyframe.h"
+#include "lrd/map/map.h"
+#include "lrd/map/map_point.h"
+#include "lrd/mapping/local_mapper.h"
+#include "lrd/match/orb_matcher.h"
+#include "lrd/optim/global_bundle_adjuster.h"
+#include "lrd/optim/pose_graph_optimizer.h"
+#include "lrd/place/keyframe_database.h"
+
+namespace lrd::loop {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+using KeyFramePoses = std::map<map::KeyFrame*, Eigen::Isometry3d, map::ById>;
+}  // namespace
+
+LoopClosingParams LoopClosingParams::from_config(config::NodeReader r,
+                                                 const std::filesystem::path& base_dir) {
+  LoopClosingParams p;
+  p.enabled = r.get("enabled", p.enabled);
+  p.vocabulary = r.get("vocabulary", p.vocabulary);
+  if (!p.vocabulary.empty() && p.vocabulary.is_relative() && !base_dir.empty())
+    p.vocabulary = base_dir / p.vocabulary;
+  p.detector.consistency = r.get("consistency", p.detector.consistency);
+  r.check(p.detector.consistency >= 1, "consistency", "must be >= 1");
+  p.detector.min_keyframes_between = r.get("min_keyframes_between", p.detector.min_keyframes_between);
+  p.detector.min_bow_matches = r.get("min_bow_matches", p.detector.min_bow_matches);
+  p.detector.min_ransac_inliers = r.get("min_ransac_inliers", p.detector.min_ransac_inliers);
+  r.check(p.detector.min_ransac_inliers >= 3, "min_ransac_inliers", "must be >= 3");
+  p.detector.min_matches = r.get("min_matches", p.detector.min_matches);
+  p.detector.ransac_iterations = r.get("ransac_iterations", p.detector.ransac_iterations);
+  r.check(p.detector.ransac_iterations >= 1, "ransac_iterations", "must be >= 1");
+  p.essential_min_weight = r.get("essential_min_weight", p.essential_min_weight);
+  p.pose_graph_iterations = r.get("pose_graph_iterations", p.pose_graph_iterations);
+  r.check(p.pose_graph_iterations >= 1, "pose_graph_iterations", "must be >= 1");
+  p.global_ba = r.get("global_ba", p.global_ba);
+  p.global_ba_iterations = r.get("global_ba_iterations", p.global_ba_iterations);
+  r.check(p.global_ba_iterations >= 1, "global_ba_iterations", "must be >= 1");
+  r.finish();
+  return p;
+}
+
+LoopCloser::LoopCloser(map::Map& map, place::KeyFrameDatabase& database, mapping::LocalMapper& mapper,
+                       LoopClosingParams params, bool threaded)
+    : map_(map),
+      database_(database),
+      mapper_(mapper),
+      params_(std::move(params)),
+      threaded_(threaded),
+      detector_(database, params_.detector) {
+  if (threaded_) thread_ = std::thread([this] { run(); });
+}
+
+LoopCloser::~LoopCloser() {
+  shutdown();
+}
+
+void LoopCloser::insert_keyframe(map::KeyFrame* kf) {
+  queue_.push(kf);
+}
+
+void LoopCloser::process_queued() {
+  while (const auto kf = queue_.try_pop()) process(*kf);
+}
+
+void LoopCloser::shutdown() {
+  if (threaded_) {
+    queue_.stop();
+    if (thread_.joinable()) thread_.join();
+  } else {
+    process_queued();
+  }
+  // A running global BA finishes: the saved trajectory should have it.
+  if (global_ba_thread_.joinable()) global_ba_thread_.join();
+}
+
+LoopCloserStats LoopCloser::stats() const {
+  std::lock_guard lock(stats_mutex_);
+  return stats_;
+}
+
+void LoopCloser::run() {
+  while (const auto kf = queue_.wait_pop()) process(*kf);
+}
+
+void LoopCloser::process(map::KeyFrame* kf) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::optional<LoopEvent> event;
+  {
+    std::lock_guard lock(map_.mutex());
+    if (kf->is_bad()) return;
+    // Protected from culling while it is examined (ORB-SLAM2's SetNotErase).
+    kf->set_not_erase(true);
+    const auto loop = detector_.detect(kf);
+    if (loop) {
+      event = correct_loop(*loop);
+      detector_.loop_closed(kf);
+    } else if (kf->loop_edges().empty()) {
+      kf->set_not_erase(false);
+    }
+  }
+  {
+    std::lock_guard lock(stats_mutex_);
+    stats_.seconds += seconds_since(t0);
+    if (event) stats_.loops.push_back(*event);
+  }
+  if (event) {
+    spdlog::info("loop closed: frame {} (keyframe {}) matches keyframe {} with {} inliers; moved {:.3f} m",
+                 event->frame_id, event->keyframe_id, event->loop_keyframe_id, event->inliers,
+                 event->correction_m);
+    if (params_.global_ba) start_global_ba(event->keyframe_id);
+  }
+}
+
+LoopEvent LoopCloser::correct_loop(const LoopDetection& loop) {
+  map::KeyFrame* kf = loop.current;
+  mapper_.interrupt_ba();
+  const std::uint64_t tag = kf->id();
+  LoopEvent event{kf->frame_id(), kf->timestamp(), kf->id(), loop.loop->id(), loop.match_count, 0.0};
+  event.correction_m = (kf->camera_center() - loop.T_cw_corrected.inverse().translation()).norm();
+
+  // 1. The current keyframe's neighbourhood moves rigidly with it.
+  kf->update_connections();
+  std::vector<map::KeyFrame*> connected = kf->ordered_covisibles();
+  connected.push_back(kf);
+  std::sort(connected.begin(), connected.end(), map::ById{});
+  KeyFramePoses uncorrected, corrected;
+  const Eigen::Isometry3d T_wc_kf = kf->T_wc();
+  for (map::KeyFrame* k : connected) {
+    uncorrected[k] = k->T_cw();
+    corrected[k] = k == kf ? loop.T_cw_corrected : k->T_cw() * T_wc_kf * loop.T_cw_corrected;
+    k->loop_query_for_kf = tag;
+  }
+  for (map::KeyFrame* k : connected) {
+    const Eigen::Isometry3d move = corrected[k].inverse() * uncorrected[k];
+    for (map::MapPoint* mp : k->map_points()) {
+      if (mp == nullptr || mp->is_bad() || mp->loop_corrected_for == tag) continue;
+      mp->set_position(move * mp->position());
+      mp->loop_corrected_for = tag;
+      mp->loop_corrected_by = k;
+    }
+  }
+  for (map::KeyFrame* k : connected) k->set_pose(corrected[k]);
+  for (map::KeyFrame* k : connected)
+    for (map::MapPoint* mp : k->map_points())
+      if (mp != nullptr && !mp->is_bad()) mp->update_normal_and_depth();
+
+  // 2. The loop's matches replace the current keyframe's points; the loop side's points are fused
+  //    into the whole neighbourhood.
+  for (std::size_t i = 0; i < loop.matches.size(); ++i) {
+    map::MapPoint* loop_mp = loop.matches[i];
+    if (loop_mp == nullptr || loop_mp->is_bad()) continue;
+    map::MapPoint* current = kf->map_point(i);
+    if (current == loop_mp) continue;
+    if (current != nullptr && !current->is_bad()) {
+      current->replace(loop_mp);
+    } else if (!loop_mp->is_in_keyframe(kf)) {
+      kf->add_map_point(loop_mp, i);
+      loop_mp->add_observation(kf, i);
+      loop_mp->compute_distinctive_descriptor();
+    }
+  }
+  const match::OrbMatcher fuser({0.8f, false});
+  for (map::KeyFrame* k : connected)
+    if (!k->is_bad()) fuser.fuse(*k, loop.loop_points, 4.0f);
+
+  // New links across the loop: neighbours each keyframe gains by the fusion.
+  std::map<map::KeyFrame*, std::set<map::KeyFrame*, map::ById>, map::ById> loop_connections;
+  for (map::KeyFrame* k : connected) {
+    if (k->is_bad()) continue;
+    const auto before = k->ordered_covisibles();
+    k->update_connections();
+    for (map::KeyFrame* n : k->ordered_covisibles())
+      if (n->loop_query_for_kf != tag && std::find(before.begin(), before.end(), n) == before.end())
+        loop_connections[k].insert(n);
+  }
+
+  // 3. Essential-graph optimization; the loop keyframe anchors the gauge (ORB-SLAM2).
+  std::vector<optim::PoseGraphNode> nodes;
+  std::vector<optim::PoseGraphEdge> edges;
+  const std::vector<map::KeyFrame*> all = map_.keyframes();
+  KeyFramePoses before;  // poses before the optimization (corrected ones for the neighbourhood)
+  for (map::KeyFrame* k : all) {
+    before[k] = k->T_cw();
+    nodes.push_back({k->id(), k->T_cw(), k == loop.loop});
+  }
+  // Odometry-like edges are measured with the poses before the correction: the drift they
+  // contain is what the optimization spreads along the loop.
+  auto pre = [&](map::KeyFrame* k) {
+    const auto it = uncorrected.find(k);
+    return it != uncorrected.end() ? it->second : k->T_cw();
+  };
+  auto add_edge = [&](map::KeyFrame* from, map::KeyFrame* to, const Eigen::Isometry3d& T_to_from) {
+    edges.push_back({from->id(), to->id(), T_to_from, 1.0});
+  };
+  for (const auto& [k, links] : loop_connections)
+    for (map::KeyFrame* n : links) {
+      if (n->is_bad()) continue;
+      const bool main_link = (k == kf && n == loop.loop);
+      if (!main_link && k->weight(n) < params_.essential_min_weight) continue;
+      add_edge(k, n, n->T_cw() * k->T_cw().inverse());
+    }
+  for (map::KeyFrame* k : all) {
+    const Eigen::Isometry3d T_kw = pre(k);
+    auto relative = [&](map::KeyFrame* n) { return pre(n) * T_kw.inverse(); };
+    if (map::KeyFrame* parent = k->parent(); parent != nullptr && !parent->is_bad())
+      add_edge(k, parent, relative(parent));
+    for (map::KeyFrame* l : k->loop_edges())
+      if (!l->is_bad() && l->id() < k->id()) add_edge(k, l, relative(l));
+    for (map::KeyFrame* n : k->covisibles_with_weight(params_.essential_min_weight)) {
+      if (n->is_bad() || n->id() >= k->id() || n == k->parent() || n->parent() == k ||
+          k->loop_edges().count(n) != 0)
+        continue;
+      add_edge(k, n, relative(n));
+    }
+  }
+  // The loop itself, at the pose the loop measured.
+  add_edge(kf, loop.loop, loop.loop->T_cw() * loop.T_cw_corrected.inverse());
+  optim::PoseGraphParams pg;
+  pg.iterations = params_.pose_graph_iterations;
+  const optim::PoseGraphResult result = optim::optimize_pose_graph(nodes, edges, pg);
+  for (map::KeyFrame* k : all) k->set_pose(result.T_cw.at(k->id()));
+  // Every point follows the keyframe it was corrected with (or its reference keyframe).
+  for (map::MapPoint* mp : map_.map_points()) {
+    map::KeyFrame* ref = mp->loop_corrected_for == tag ? mp->loop_corrected_by : mp->reference_keyframe();
+    if (ref == nullptr) continue;
+    const auto it = before.find(ref);
+    if (it == before.end()) continue;  // reference removed: leave the point
+    mp->set_position(ref->T_cw().inverse() * (it->second * mp->position()));
+    mp->update_normal_and_depth();
+  }
+  kf->add_loop_edge(loop.loop);
+  loop.loop->add_loop_edge(kf);
+  map_.notify_big_change();
+  spdlog::debug("loop {}-{}: {} connected keyframes, {} essential edges, pose graph cost {:.4g} -> {:.4g}",
+                kf->id(), loop.loop->id(), connected.size(), edges.size(), result.initial_cost,
+                result.final_cost);
+  return event;
+}
+
+void LoopCloser::start_global_ba(std::uint64_t run) {
+  stop_global_ba();
+  if (!threaded_) {
+    run_global_ba(run);
+    return;
+  }
+  abort_global_ba_.store(false);
+  global_ba_thread_ = std::thread([this, run] { run_global_ba(run); });
+}
+
+void LoopCloser::stop_global_ba() {
+  abort_global_ba_.store(true);
+  if (global_ba_thread_.joinable()) global_ba_thread_.join();
+  abort_global_ba_.store(false);
+}
+
+void LoopCloser::run_global_ba(std::uint64_t run) {
+  const auto t0 = std::chrono::steady_clock::now();
+  optim::GlobalBundleAdjustmentParams gp;
+  gp.iterations = params_.global_ba_iterations;
+  const auto s = optim::global_bundle_adjustment(map_, run, threaded_ ? &abort_global_ba_ : nullptr, gp);
+  spdlog::info("global BA after loop at keyframe {}: {} keyframes, {} points, rms {:.2f} -> {:.2f} px{}", run,
+               s.keyframes, s.points, s.initial_rms_px, s.final_rms_px, s.aborted ? " (aborted)" : "");
+  std::lock_guard lock(stats_mutex_);
+  ++stats_.global_bundle_adjustments;
+  if (s.aborted) ++stats_.aborted_global_bundle_adjustments;
+  stats_.global_ba_seconds += seconds_since(t0);
+}
+
+}  // namespace lrd::loop

@@ -1,0 +1,111 @@
+#pragma once
+// Loop closing (ORB-SLAM2's LoopClosing thread, paper §2.2): each keyframe local mapping has
+// processed is checked for a loop (LoopDetector); a detected loop is corrected:
+//  1. the new keyframe and its covisible neighbours move rigidly to where the loop puts them,
+//     with the map points they see;
+//  2. the loop side's map points are fused with theirs (duplicates merged);
+//  3. the essential graph (spanning tree, loop edges, strong covisibility edges and the new
+//     loop connections) is optimized as a pose graph, and every map point follows its keyframe;
+//  4. global bundle adjustment refines the whole map in its own thread and is merged without
+//     stopping tracking (optim/global_bundle_adjuster.h).
+// Trajectories follow automatically: frames are stored relative to keyframes.
+//
+// Threaded (default) it runs on its own thread; in lock-step mode (deterministic runs)
+// process_queued() does the same work, global BA included, in the caller's thread.
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "lrd/config/node_reader.h"
+#include "lrd/loop/loop_detector.h"
+#include "lrd/util/work_queue.h"
+
+namespace lrd::map {
+class KeyFrame;
+class Map;
+}  // namespace lrd::map
+namespace lrd::mapping {
+class LocalMapper;
+}
+namespace lrd::place {
+class KeyFrameDatabase;
+}
+
+namespace lrd::loop {
+
+struct LoopClosingParams {
+  bool enabled = true;
+  std::filesystem::path vocabulary;  // empty: the shipped vocab/orb_vocab.lrdv
+  LoopDetectorParams detector;
+  int essential_min_weight = 100;  // covisibility edges kept in the essential graph
+  int pose_graph_iterations = 20;
+  bool global_ba = true;
+  int global_ba_iterations = 10;
+  // Reads the `loop_closing` section of the config (and finishes it); relative paths are
+  // relative to `base_dir` (the config file's folder).
+  static LoopClosingParams from_config(config::NodeReader reader, const std::filesystem::path& base_dir);
+};
+
+// One closed loop, for the run log and the summary.
+struct LoopEvent {
+  std::uint64_t frame_id = 0;  // the frame that became the keyframe closing the loop
+  double timestamp = 0.0;
+  std::uint64_t keyframe_id = 0;
+  std::uint64_t loop_keyframe_id = 0;
+  int inliers = 0;            // matches supporting the loop after the projection search
+  double correction_m = 0.0;  // how far the keyframe moved
+};
+
+struct LoopCloserStats {
+  std::vector<LoopEvent> loops;
+  int global_bundle_adjustments = 0;
+  int aborted_global_bundle_adjustments = 0;
+  double seconds = 0.0;  // detection and correction (global BA not included)
+  double global_ba_seconds = 0.0;
+};
+
+class LoopCloser {
+ public:
+  LoopCloser(map::Map& map, place::KeyFrameDatabase& database, mapping::LocalMapper& mapper,
+             LoopClosingParams params, bool threaded);
+  ~LoopCloser();
+  LoopCloser(const LoopCloser&) = delete;
+  LoopCloser& operator=(const LoopCloser&) = delete;
+
+  // From local mapping (any thread; the map mutex must not be held).
+  void insert_keyframe(map::KeyFrame* kf);
+  // Lock-step mode: processes what is queued now (and runs global BA to the end).
+  void process_queued();
+  // Processes what is queued, waits for a running global BA and stops the threads. Idempotent.
+  void shutdown();
+  [[nodiscard]] LoopCloserStats stats() const;
+
+ private:
+  void run();
+  void process(map::KeyFrame* kf);
+  LoopEvent correct_loop(const LoopDetection& loop);
+  void run_global_ba(std::uint64_t run);
+  void start_global_ba(std::uint64_t run);
+  void stop_global_ba();
+
+  map::Map& map_;
+  place::KeyFrameDatabase& database_;
+  mapping::LocalMapper& mapper_;
+  const LoopClosingParams params_;
+  const bool threaded_;
+  LoopDetector detector_;  // this thread only
+
+  util::WorkQueue<map::KeyFrame*> queue_;
+
+  mutable std::mutex stats_mutex_;
+  LoopCloserStats stats_;
+
+  std::atomic<bool> abort_global_ba_{false};
+  std::thread global_ba_thread_;
+  std::thread thread_;
+};
+
+}  // namespace lrd::loop
