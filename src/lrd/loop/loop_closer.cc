@@ -102,13 +102,19 @@ void LoopCloser::process(map::KeyFrame* kf) {
     if (kf->is_bad()) return;
     // Protected from culling while it is examined (ORB-SLAM2's SetNotErase).
     kf->set_not_erase(true);
-    const auto loop = detector_.detect(kf);
-    if (loop) {
-      event = correct_loop(*loop);
-      detector_.loop_closed(kf);
-    } else if (kf->loop_edges().empty()) {
-      kf->set_not_erase(false);
+    try {
+      const auto loop = detector_.detect(kf);
+      if (loop && loop->T_cw_corrected.matrix().allFinite()) {
+        event = correct_loop(*loop);
+        detector_.loop_closed(kf);
+      }
+    } catch (const std::exception& e) {
+      // Never out of this thread (std::terminate) nor into tracking's frame: the map keeps what
+      // was corrected so far, and local BA learns that it changed.
+      spdlog::error("loop closing at keyframe {}: {}", kf->id(), e.what());
+      map_.notify_big_change();
     }
+    if (kf->loop_edges().empty()) kf->set_not_erase(false);
   }
   {
     std::lock_guard lock(stats_mutex_);
@@ -134,6 +140,16 @@ LoopEvent LoopCloser::correct_loop(const LoopDetection& loop) {
   kf->update_connections();
   std::vector<map::KeyFrame*> connected = kf->ordered_covisibles();
   connected.push_back(kf);
+  // Keyframes still queued for local mapping (threaded runs: tracking adds them to the map at
+  // once, mapping connects them later) have no edges yet; they are the newest, taken next to the
+  // current one, so they move with it, here and through the pose graph.
+  std::vector<map::KeyFrame*> followers;
+  for (map::KeyFrame* k : map_.keyframes())
+    if (k->parent() == nullptr && k != map_.first_keyframe() && k != kf &&
+        std::find(connected.begin(), connected.end(), k) == connected.end()) {
+      followers.push_back(k);
+      connected.push_back(k);
+    }
   std::sort(connected.begin(), connected.end(), map::ById{});
   KeyFramePoses uncorrected, corrected;
   const Eigen::Isometry3d T_wc_kf = kf->T_wc();
@@ -201,9 +217,16 @@ LoopEvent LoopCloser::correct_loop(const LoopDetection& loop) {
     const auto it = uncorrected.find(k);
     return it != uncorrected.end() ? it->second : k->T_cw();
   };
+  // One edge per pair: a new link across the loop is measured with the corrected poses only,
+  // never again with the drifted ones (ORB-SLAM2's sInsertedEdges).
+  std::set<std::pair<std::uint64_t, std::uint64_t>> inserted;
   auto add_edge = [&](map::KeyFrame* from, map::KeyFrame* to, const Eigen::Isometry3d& T_to_from) {
+    const std::pair<std::uint64_t, std::uint64_t> key = std::minmax(from->id(), to->id());
+    if (!inserted.insert(key).second) return;
     edges.push_back({from->id(), to->id(), T_to_from, 1.0});
   };
+  // The loop itself first, at the pose the loop measured.
+  add_edge(kf, loop.loop, loop.loop->T_cw() * loop.T_cw_corrected.inverse());
   for (const auto& [k, links] : loop_connections)
     for (map::KeyFrame* n : links) {
       if (n->is_bad()) continue;
@@ -225,12 +248,12 @@ LoopEvent LoopCloser::correct_loop(const LoopDetection& loop) {
       add_edge(k, n, relative(n));
     }
   }
-  // The loop itself, at the pose the loop measured.
-  add_edge(kf, loop.loop, loop.loop->T_cw() * loop.T_cw_corrected.inverse());
   optim::PoseGraphParams pg;
   pg.iterations = params_.pose_graph_iterations;
   const optim::PoseGraphResult result = optim::optimize_pose_graph(nodes, edges, pg);
   for (map::KeyFrame* k : all) k->set_pose(result.T_cw.at(k->id()));
+  // Followers (no edges) keep their place relative to the current keyframe.
+  for (map::KeyFrame* k : followers) k->set_pose(before.at(k) * before.at(kf).inverse() * kf->T_cw());
   // Every point follows the keyframe it was corrected with (or its reference keyframe).
   for (map::MapPoint* mp : map_.map_points()) {
     map::KeyFrame* ref = mp->loop_corrected_for == tag ? mp->loop_corrected_by : mp->reference_keyframe();

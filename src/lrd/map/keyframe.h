@@ -67,6 +67,13 @@ class KeyFrame {
   [[nodiscard]] std::vector<KeyFrame*> best_covisibles(std::size_t n) const;
   [[nodiscard]] std::vector<KeyFrame*> covisibles_with_weight(int min_weight) const;
   [[nodiscard]] const std::vector<KeyFrame*>& ordered_covisibles() const { return ordered_neighbours_; }
+  // Every keyframe sharing at least one map point with this one (weak links included), by id.
+  [[nodiscard]] std::vector<KeyFrame*> connected_keyframes() const {
+    std::vector<KeyFrame*> out;
+    out.reserve(connections_.size());
+    for (const auto& [kf, w] : connections_) out.push_back(kf);
+    return out;
+  }
 
   // --- spanning tree and loop edges (the essential graph)
   [[nodiscard]] KeyFrame* parent() const { return parent_; }

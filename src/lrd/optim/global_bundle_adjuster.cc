@@ -78,7 +78,12 @@ GlobalBundleAdjustmentStats global_bundle_adjustment(map::Map& map, std::uint64_
     stats.aborted = true;
     return stats;
   }
+  // Only keyframes the problem constrained take its result; one without observations (still
+  // queued for local mapping when the map was read) follows its parent below, or keeps its pose.
+  std::vector<bool> observed(kfs.size(), false);
+  for (const Observation& o : obs) observed[o.kf] = true;
   for (std::size_t i = 0; i < kfs.size(); ++i) {
+    if (!observed[i]) continue;
     kfs[i]->T_cw_global_ba = from_block(poses[i]);
     kfs[i]->global_ba_for = run;
   }

@@ -99,9 +99,15 @@ std::vector<map::KeyFrame*> KeyFrameDatabase::candidates(const BowVector& bow, s
 }
 
 std::vector<map::KeyFrame*> KeyFrameDatabase::loop_candidates(map::KeyFrame* kf, double min_score) {
-  std::vector<map::KeyFrame*> exclude = kf->ordered_covisibles();
+  // Every keyframe sharing a point with it, weak links included (ORB-SLAM2's connected
+  // keyframes): the recent past is not a loop.
+  std::vector<map::KeyFrame*> exclude = kf->connected_keyframes();
   exclude.push_back(kf);
-  return candidates(kf->bow(), next_query_++, exclude, min_score);
+  auto out = candidates(kf->bow(), next_query_++, exclude, min_score);
+  // Keyframes indexed after it (threaded: local mapping runs ahead of loop closing) neither.
+  out.erase(std::remove_if(out.begin(), out.end(), [&](const map::KeyFrame* c) { return c->id() >= kf->id(); }),
+            out.end());
+  return out;
 }
 
 std::vector<map::KeyFrame*> KeyFrameDatabase::relocalization_candidates(const data::Frame& frame) {

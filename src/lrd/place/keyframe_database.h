@@ -30,8 +30,8 @@ class KeyFrameDatabase {
   void clear();
   [[nodiscard]] std::size_t size() const { return keyframe_count_; }
 
-  // Loop candidates for `kf`: keyframes not connected to it in the covisibility graph, with a
-  // score of at least `min_score` and in a group scoring at least 75 % of the best group.
+  // Loop candidates for `kf`: older keyframes sharing no map point with it, with a score of at
+  // least `min_score` and in a group scoring at least 75 % of the best group.
   [[nodiscard]] std::vector<map::KeyFrame*> loop_candidates(map::KeyFrame* kf, double min_score);
   // Relocalization candidates for a frame whose BoW is computed (tracking lost).
   [[nodiscard]] std::vector<map::KeyFrame*> relocalization_candidates(const data::Frame& frame);
