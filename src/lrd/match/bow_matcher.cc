@@ -83,37 +83,36 @@ bool good(const map::MapPoint* mp) {
   return mp != nullptr && !mp->is_bad();
 }
 
-}  // namespace
-
-int BowMatcher::match(const map::KeyFrame& kf, const data::Frame& frame,
-                      std::vector<map::MapPoint*>& out) const {
-  out.assign(frame.size(), nullptr);
+// The source keyframe's map points matched to the target view's keypoints accepted by
+// `use_target`: out[target keypoint] = map point.
+int match_points(const map::KeyFrame& source, const data::Frame& target,
+                 const std::function<bool(std::size_t)>& use_target, const MatcherParams& params,
+                 std::vector<map::MapPoint*>& out) {
+  out.assign(target.size(), nullptr);
   const auto pairs = match_nodes(
-      kf.features(), [&](std::size_t i) { return good(kf.map_point(i)); }, frame,
-      [](std::size_t) { return true; }, params_);
+      source.features(), [&](std::size_t i) { return good(source.map_point(i)); }, target, use_target,
+      params);
   int n = 0;
   for (std::size_t j = 0; j < pairs.size(); ++j) {
     if (pairs[j].a == SIZE_MAX) continue;
-    out[j] = kf.map_point(pairs[j].a);
+    out[j] = source.map_point(pairs[j].a);
     ++n;
   }
   return n;
 }
 
+}  // namespace
+
+int BowMatcher::match(const map::KeyFrame& kf, const data::Frame& frame,
+                      std::vector<map::MapPoint*>& out) const {
+  return match_points(
+      kf, frame, [](std::size_t) { return true; }, params_, out);
+}
+
 int BowMatcher::match(const map::KeyFrame& kf1, const map::KeyFrame& kf2,
                       std::vector<map::MapPoint*>& out) const {
-  out.assign(kf1.size(), nullptr);
-  // View a = kf2 (its map points are the result), view b = kf1.
-  const auto pairs = match_nodes(
-      kf2.features(), [&](std::size_t i) { return good(kf2.map_point(i)); }, kf1.features(),
-      [&](std::size_t j) { return good(kf1.map_point(j)); }, params_);
-  int n = 0;
-  for (std::size_t j = 0; j < pairs.size(); ++j) {
-    if (pairs[j].a == SIZE_MAX) continue;
-    out[j] = kf2.map_point(pairs[j].a);
-    ++n;
-  }
-  return n;
+  return match_points(
+      kf2, kf1.features(), [&](std::size_t j) { return good(kf1.map_point(j)); }, params_, out);
 }
 
 }  // namespace lrd::match
