@@ -103,6 +103,7 @@ int main(int argc, char** argv) {
         o.sequence = dir;
         o.out = fs::path(out_dir) / "runs" / preset / mode;
         o.progress = false;
+        o.preload = true;  // no decoding thread competing with tracking (ORB-SLAM2's way of timing)
         const bool full_sync = mode == "full-sync";
         o.mode = full_sync ? "full" : mode;
         o.segmenter = (mode == "static" || mode == "geometric") ? "none" : segmenter;

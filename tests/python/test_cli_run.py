@@ -45,6 +45,16 @@ def test_deterministic_runs_are_byte_identical(sequence, tmp_path):
         assert (outs[0] / name).read_bytes() == (outs[1] / name).read_bytes(), name
 
 
+def test_preload_changes_timing_only(sequence, tmp_path):
+    # --preload decodes every frame first; in deterministic mode the trajectory is the same bytes.
+    outs = []
+    for k, extra in enumerate([[], ["--preload"]]):
+        out = tmp_path / f"run{k}"
+        lrdslam("run", "--sequence", sequence, "--out", out, "--deterministic", "--quiet", *extra)
+        outs.append(out)
+    assert (outs[0] / "CameraTrajectory.txt").read_bytes() == (outs[1] / "CameraTrajectory.txt").read_bytes()
+
+
 @pytest.mark.parametrize(
     "args, expected",
     [

@@ -14,7 +14,7 @@ sys.path.insert(0, ROOT)
 import torch.nn.functional as F  # noqa: E402
 
 from training.fnet import ghost, unpool  # noqa: E402
-from training.fnet.model import Deconv, build_model, count_params  # noqa: E402
+from training.fnet.model import Deconv, build_model, count_params, upsample_logits  # noqa: E402
 
 torch.set_num_threads(1)
 
@@ -87,8 +87,11 @@ def test_encoder_decoder_output_shapes(config):
         feats = m.encoder((x - m.mean) / m.std)
         assert [tuple(f.shape[1:]) for f in feats] == [
             (c, 64 // 2 ** (i + 1), 96 // 2 ** (i + 1)) for i, c in enumerate(m.encoder.channels)]
-        assert m.decoder(feats).shape == (1, 21, 64, 96)
-        assert m(torch.rand(1, 3, 48, 80)).shape == (1, 21, 48, 80)  # 48/32 is not whole: odd sizes
+        # fnet-lite leaves the last x2 to its consumer (final_up "none"): logits at H/2
+        f = 2 if m.cfg.final_up == "none" else 1
+        assert m.decoder(feats).shape == (1, 21, 64 // f, 96 // f)
+        assert m(torch.rand(1, 3, 48, 80)).shape == (1, 21, 48 // f, 80 // f)  # 48/32 not whole: odd sizes
+        assert upsample_logits(m(x), (64, 96)).shape == (1, 21, 64, 96)
 
 
 def test_resnet50_layout():
@@ -116,7 +119,7 @@ def test_few_adam_steps_lower_the_loss():
     loss_fn = torch.nn.CrossEntropyLoss(ignore_index=255)
     losses = []
     for _ in range(6):
-        loss = loss_fn(m(x), y)
+        loss = loss_fn(upsample_logits(m(x), y.shape[-2:]), y)
         opt.zero_grad()
         loss.backward()
         opt.step()
@@ -218,6 +221,6 @@ def test_export_onnx_matches_torch_in_opencv_dnn(tmp_path, mode):
     got = net.forward()
     with torch.no_grad():
         ref = m(torch.from_numpy(rgb.transpose(2, 0, 1)[None].copy())).numpy()
-    assert got.shape == (1, 21, 48, 64)
+    assert got.shape == (1, 21, 24, 32)  # fnet-lite: logits at H/2
     assert np.abs(got - ref).max() < 1e-4
     assert os.path.exists(str(tmp_path / "lite.json"))

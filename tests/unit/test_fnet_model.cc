@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <opencv2/core.hpp>
 
 #include "lrd/runner/sequence_runner.h"
 #include "lrd/segmentation/onnx_segmenter.h"
@@ -14,14 +15,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(FnetModel, PersonIouOnHeldOutSyntheticFrames) {
-  const fs::path model = fs::path(LRD_SOURCE_DIR) / "models" / "fnet-lite.onnx";
-  if (!fs::exists(model)) GTEST_SKIP() << model << " has not shipped yet";
-  // Exactly the `--segmenter fnet` preset's settings.
+const fs::path kModel = fs::path(LRD_SOURCE_DIR) / "models" / "fnet-lite.onnx";
+
+// Exactly the `--segmenter fnet` preset's settings, with the model of this source tree.
+lrd::segmentation::OnnxParams fnet_params() {
   lrd::segmentation::SegmentationParams p =
       lrd::runner::segmenter_preset("fnet", {}, lrd::segmentation::SegmentationParams{});
-  p.onnx.model = model;
-  lrd::segmentation::OnnxSegmenter net(p.onnx);
+  p.onnx.model = kModel;
+  return p.onnx;
+}
+
+TEST(FnetModel, PersonIouOnHeldOutSyntheticFrames) {
+  if (!fs::exists(kModel)) GTEST_SKIP() << kModel << " has not shipped yet";
+  lrd::segmentation::OnnxSegmenter net(fnet_params());
 
   std::size_t intersection = 0, union_ = 0, dynamic_hits = 0, dynamic_truth = 0;
   for (const char* preset : {"walking_xyz", "sitting_halfsphere", "walking_pushed"}) {
@@ -53,6 +59,36 @@ TEST(FnetModel, PersonIouOnHeldOutSyntheticFrames) {
   EXPECT_GE(iou, 0.8) << "person IoU " << iou;
   // The dynamic mask the tracker gets covers the people.
   EXPECT_GE(static_cast<double>(dynamic_hits) / static_cast<double>(dynamic_truth), 0.8);
+}
+
+// segment() takes a shortcut to the dynamic mask (best dynamic minus best static logit at the
+// network's resolution, interpolated): it must agree with the arg-max labels it stands in for.
+TEST(FnetModel, DynamicMaskAgreesWithTheLabels) {
+  if (!fs::exists(kModel)) GTEST_SKIP() << kModel << " has not shipped yet";
+  const lrd::segmentation::OnnxParams params = fnet_params();
+  lrd::segmentation::OnnxSegmenter net(params);
+  lrd::synth::SynthOptions o;
+  o.preset = "walking_xyz";
+  o.seed = 1;
+  o.frames = 120;
+  const lrd::synth::SyntheticSequence seq(o);
+  std::size_t differ = 0, total = 0, person = 0;
+  for (int i = 0; i < seq.size(); i += 30) {
+    const lrd::synth::SynthFrame f = seq.render(i);
+    const cv::Mat labels = net.labels(f.rgb, false);
+    const cv::Mat mask = net.segment(f.rgb, false, f.timestamp);
+    ASSERT_EQ(mask.size(), f.rgb.size());
+    ASSERT_EQ(mask.type(), CV_8UC1);
+    EXPECT_EQ(cv::countNonZero((mask != 0) & (mask != 255)), 0);
+    cv::Mat dynamic = cv::Mat::zeros(labels.size(), CV_8UC1);
+    for (const int id : params.dynamic_ids) dynamic |= labels == id;
+    differ += static_cast<std::size_t>(cv::countNonZero(dynamic != mask));
+    person += static_cast<std::size_t>(cv::countNonZero(dynamic));
+    total += labels.total();
+  }
+  ASSERT_GT(person, total / 100);  // people are in view
+  // Only outline pixels may differ (two interpolations of the same decision).
+  EXPECT_LT(static_cast<double>(differ), 0.05 * static_cast<double>(person)) << differ << " of " << person;
 }
 
 }  // namespace

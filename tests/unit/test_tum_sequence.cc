@@ -270,6 +270,26 @@ TEST_F(TumSequenceTest, PrefetchRangeAndEarlyShutdown) {
   EXPECT_THROW(FramePrefetcher(seq, 5000.0, {.queue_depth = 0}), lrd::Error);
 }
 
+// --preload: everything decoded before the first frame is taken, then delivered in order.
+TEST_F(TumSequenceTest, PreloadDecodesEveryFrameFirst) {
+  const auto seq = TumSequence::open(dir_);
+  FramePrefetcher prefetcher(seq, 5000.0, {.queue_depth = seq.size()});
+  prefetcher.wait_until_decoded();
+  EXPECT_EQ(prefetcher.stats().frames, seq.size());
+  for (std::size_t i = 0; i < seq.size(); ++i) EXPECT_EQ(prefetcher.next()->index, i);
+  EXPECT_FALSE(prefetcher.next().has_value());
+  prefetcher.wait_until_decoded();  // returns at once when done
+
+  // A corrupt frame ends the preload (no hang); the frames before it come out, then the error.
+  std::ofstream(depth_file(2), std::ios::binary) << "garbage";
+  FramePrefetcher broken(seq, 5000.0, {.queue_depth = seq.size()});
+  broken.wait_until_decoded();
+  EXPECT_EQ(broken.stats().frames, 2u);
+  EXPECT_EQ(broken.next()->index, 0u);
+  EXPECT_EQ(broken.next()->index, 1u);
+  EXPECT_TRUE(contains(error_of([&] { (void)broken.next(); }), depth_file(2).string())) << "corrupt frame named";
+}
+
 TEST_F(TumSequenceTest, PrefetchSurfacesCorruptPng) {
   const auto seq = TumSequence::open(dir_);
   std::ofstream(depth_file(2), std::ios::binary) << "not a png at all, just garbage bytes";

@@ -19,7 +19,7 @@ import numpy as np
 import torch
 
 from .export import load_checkpoint, parse_size
-from .model import VOC_CLASSES, count_params
+from .model import VOC_CLASSES, count_params, upsample_logits
 from .voc import IGNORE, VOCSegmentation, read_ids, split_ids
 
 
@@ -83,6 +83,7 @@ def main(argv=None) -> int:
             if device.type == "cuda":
                 torch.cuda.synchronize()
             times.append((time.perf_counter() - t0) * 1e3)
+            logits = upsample_logits(logits, y.shape[-2:])
             conf += confusion(logits.argmax(1)[0].cpu().numpy(), y, n)
     pa, iou, mpa, miou = metrics(conf)
     ms = statistics.median(times) if times else float("nan")

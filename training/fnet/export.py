@@ -5,7 +5,8 @@
 
 The graph has a FIXED input size (W x H, both even) and batch 1: sizes are baked as constants so
 OpenCV 4.6 needs no shape inference. Input "image": 1x3xHxW float32 RGB in [0, 1]; mean/std
-normalisation is inside the graph. Output "logits": 1x21xHxW (argmax over dim 1 = VOC class).
+normalisation is inside the graph. Output "logits": 1x21xHxW, or 1x21x(H/2)x(W/2) for configs with
+final_up "none" (fnet-lite; the consumer upsamples) - argmax over dim 1 = VOC class.
 A model card <out>.json next to the .onnx records all of that (and the OpenCV check).
 """
 from __future__ import annotations
@@ -102,8 +103,11 @@ def export_onnx(model: FNet, out: str, size: Tuple[int, int] = (320, 240), opset
                   "preprocess": "cv2.dnn.blobFromImage(bgr, 1/255.0, (W, H), Scalar(), swapRB=true, crop=false)",
                   "normalization_in_graph": {"mean": list(MEAN), "std": list(STD),
                                              "formula": "(x - mean) / std per RGB channel"}},
-        "output": {"name": "logits", "shape": [1, len(VOC_CLASSES), h, w],
-                   "meaning": "per-pixel class logits; softmax/argmax over dim 1", "classes": list(VOC_CLASSES),
+        "output": {"name": "logits", "shape": list(ref.shape),
+                   "meaning": "per-pixel class logits; softmax/argmax over dim 1" +
+                              ("" if tuple(ref.shape[-2:]) == (h, w) else
+                               "; half the input resolution: resize bilinearly to the input size first"),
+                   "classes": list(VOC_CLASSES),
                    "ignore_label": 255},
         "unpooling": "argmax-mask form of SegNet max-unpooling (training/fnet/unpool.py)",
         "torch": torch.__version__,

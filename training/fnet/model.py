@@ -9,7 +9,9 @@ Decoder, one step per encoder scale H/16 -> H/8 -> H/4 -> H/2, then H/2 -> H:
   2. UNet concatenation with the encoder feature map of the same resolution,
   3. trainable deconvolution (ConvTranspose 3x3, BN, ReLU) that densifies the sparse unpooled map.
 A final ConvTranspose 4x4/2 reaches full resolution; a 1x1 classifier gives 21 VOC logits
-(softmax lives in the loss / at inference; the ONNX graph outputs logits).
+(softmax lives in the loss / at inference; the ONNX graph outputs logits). fnet-lite instead
+classifies at H/2 and leaves the last x2 to its consumer (final_up "none"): the training loss
+upsamples the logits bilinearly, the C++ backend upsamples its per-pixel decision margin.
 
 Where the indices come from (the paper leaves it open): ResNet-50 has one max-pool (the stem's
 3x3/2, overlapping windows) and downsamples the other stages with stride-2 convolutions, so
@@ -46,6 +48,7 @@ VOC_CLASSES = ("background", "aeroplane", "bicycle", "bird", "boat", "bottle", "
 class FNetConfig:
     name: str = "fnet"
     stem: int = 64                              # stem conv output channels
+    stem_k: int = 7                             # stem kernel (ResNet-50: 7x7/2)
     widths: Tuple[int, ...] = (64, 128, 256, 512)  # bottleneck widths per stage (output = x expansion)
     blocks: Tuple[int, ...] = (3, 4, 6, 3)     # ResNet-50
     expansion: int = 4
@@ -55,7 +58,8 @@ class FNetConfig:
     d: int = 3                                  # cheap depthwise kernel
     num_classes: int = 21
     unpool: str = "mask"                        # unpool.py: "mask" (fast) or "first" (exact on ties)
-    final_up: str = "deconv"                    # H/2 -> H: "deconv" (4x4/2, trainable) or "bilinear"
+    final_up: str = "deconv"                    # H/2 -> H: "deconv" (4x4/2, trainable), "bilinear" (fixed
+                                                # resize of the logits) or "none" (H/2 logits out)
 
     def to_dict(self) -> Dict:
         return asdict(self)
@@ -65,11 +69,12 @@ CONFIGS: Dict[str, FNetConfig] = {
     # The paper's network; decoder widths chosen so that s=2 gives ~12.2 M parameters (Table 3).
     "fnet": FNetConfig(),
     # Same design, narrower and one block per stage: real time on 2 CPU cores (training/bench_fnet.py).
-    # The last x2 is a fixed bilinear resize of the logits: cv2.dnn 4.6's stride-2 Deconvolution
-    # alone costs > 10 ms at 320x240.
-    # Widths chosen from a cv2.dnn sweep: at this size the H/2 layers (stem, last densify) dominate.
-    "fnet-lite": FNetConfig(name="fnet-lite", stem=8, widths=(8, 16, 32, 64), blocks=(1, 1, 1, 1),
-                            dec=(4, 12, 16, 32), head=8, final_up="bilinear"),
+    # From a cv2.dnn 4.6 sweep at 320x240 (2 threads, interleaved with the ORB yardstick): the H/2
+    # layers dominate. No in-graph x2 of the logits (a 21-channel Resize at full size was 0.7 ms, and
+    # the C++ argmax 4x the pixels; cv2.dnn's stride-2 Deconvolution alone costs > 10 ms): logits come
+    # out at H/2. A 3x3 stem with 8 intrinsic maps instead of 7x7 with 4: 6.3 -> 4.8 ms together.
+    "fnet-lite": FNetConfig(name="fnet-lite", stem=16, stem_k=3, widths=(8, 16, 32, 64), blocks=(1, 1, 1, 1),
+                            dec=(4, 12, 16, 32), head=8, final_up="none"),
 }
 
 
@@ -89,7 +94,7 @@ class GhostResNetEncoder(nn.Module):
     def __init__(self, cfg: FNetConfig):
         super().__init__()
         s, d = cfg.s, cfg.d
-        self.stem = GhostModule(3, cfg.stem, 7, 2, s, d, relu=True)  # conv-BN-ReLU, H/2
+        self.stem = GhostModule(3, cfg.stem, cfg.stem_k, 2, s, d, relu=True)  # conv-BN-ReLU, H/2
         self.pool = nn.MaxPool2d(3, 2, 1)                             # H/4
         stages, cin = [], cfg.stem
         for i, (w, n) in enumerate(zip(cfg.widths, cfg.blocks)):
@@ -165,10 +170,11 @@ class FNetDecoder(nn.Module):
         self.densify = nn.ModuleList(deconv_bn_relu(2 * w, o, 3, 1) for w, o in zip(dec, outs))
         if cfg.final_up == "deconv":
             self.up = deconv_bn_relu(cfg.head, cfg.head, 4, 2)  # H/2 -> H, then classify
-        elif cfg.final_up == "bilinear":
-            self.up = None                                      # classify at H/2, resize logits
+        elif cfg.final_up in ("bilinear", "none"):
+            self.up = None                                      # classify at H/2 (then resize or not)
         else:
-            raise ValueError(f"final_up must be 'deconv' or 'bilinear', got '{cfg.final_up}'")
+            raise ValueError(f"final_up must be 'deconv', 'bilinear' or 'none', got '{cfg.final_up}'")
+        self.final_up = cfg.final_up
         self.classifier = nn.Conv2d(cfg.head, cfg.num_classes, 1)
         self.unpool = Unpool(cfg.unpool)
 
@@ -181,6 +187,8 @@ class FNetDecoder(nn.Module):
             y = self.densify[k](torch.cat([y, skip], 1))  # UNet concat + trainable deconvolution
         if self.up is not None:
             return self.classifier(self.up(y))
+        if self.final_up == "none":
+            return self.classifier(y)  # H/2 logits: upsample_logits() / the consumer does the x2
         return F.interpolate(self.classifier(y), scale_factor=2.0, mode="bilinear", align_corners=False)
 
 
@@ -199,7 +207,8 @@ class FNet(nn.Module):
                     nn.init.zeros_(m.bias)
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
-        """x: N x 3 x H x W RGB in [0, 1] (H, W even) -> N x 21 x H x W logits."""
+        """x: N x 3 x H x W RGB in [0, 1] (H, W even) -> N x 21 x H x W logits (H/2 x W/2 when
+        cfg.final_up is "none"; upsample_logits() brings them to the label size)."""
         return self.decoder(self.encoder((x - self.mean) / self.std))
 
     def set_encoder_frozen(self, frozen: bool) -> None:
@@ -220,6 +229,14 @@ class FNet(nn.Module):
 def build_model(config: str | FNetConfig = "fnet", **overrides) -> FNet:
     cfg = get_config(config, **overrides) if isinstance(config, str) else config
     return FNet(cfg)
+
+
+def upsample_logits(logits: torch.Tensor, size) -> torch.Tensor:
+    """Logits at the label size (bilinear, half-pixel centres like cv::resize): a no-op for configs
+    that already output full resolution."""
+    if tuple(logits.shape[-2:]) == tuple(size):
+        return logits
+    return F.interpolate(logits, size=tuple(size), mode="bilinear", align_corners=False)
 
 
 def count_params(model: nn.Module) -> int:

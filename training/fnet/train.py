@@ -26,7 +26,7 @@ import torch
 from torch import nn
 
 from .export import parse_size
-from .model import FNet, build_model, config_from_dict, count_params
+from .model import FNet, build_model, config_from_dict, count_params, upsample_logits
 from .voc import IGNORE, Augment, VOCSegmentation, split_ids
 
 
@@ -55,7 +55,7 @@ def run_epoch(model: FNet, loader, loss_fn, device, optimizer=None) -> float:
     with torch.set_grad_enabled(training):
         for x, y in loader:
             x, y = x.to(device), y.to(device)
-            logits = model(x)
+            logits = upsample_logits(model(x), y.shape[-2:])
             loss = loss_fn(logits, y)  # softmax cross-entropy over the 21 classes, 255 ignored
             if training:
                 optimizer.zero_grad(set_to_none=True)

@@ -74,7 +74,7 @@ void FramePrefetcher::run() {
     std::lock_guard lock(mutex_);
     done_ = true;
   }
-  not_empty_.notify_one();
+  not_empty_.notify_all();
 }
 
 std::optional<RgbdFrame> FramePrefetcher::next() {
@@ -91,6 +91,11 @@ std::optional<RgbdFrame> FramePrefetcher::next() {
   }
   if (error_) std::rethrow_exception(error_);
   return std::nullopt;
+}
+
+void FramePrefetcher::wait_until_decoded() {
+  std::unique_lock lock(mutex_);
+  not_empty_.wait(lock, [this] { return done_; });
 }
 
 DecodeStats FramePrefetcher::stats() const {

@@ -42,6 +42,10 @@ class FramePrefetcher {
   // and again on every later call.
   [[nodiscard]] std::optional<RgbdFrame> next();
 
+  // Blocks until every frame is decoded (or decoding failed; next() then rethrows). With a queue
+  // as deep as the sequence this separates decoding from tracking entirely (`--preload`).
+  void wait_until_decoded();
+
   [[nodiscard]] DecodeStats stats() const;
   // Frames this prefetcher will deliver in total.
   [[nodiscard]] std::size_t size() const { return end_ - begin_; }

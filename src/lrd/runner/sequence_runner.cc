@@ -264,8 +264,10 @@ RunReport run_sequence(const RunOptions& o) {
 
   io::PrefetchOptions popts;
   if (o.max_frames > 0) popts.end = o.max_frames;
+  if (o.preload) popts.queue_depth = std::max<std::size_t>(1, std::min(popts.end, seq.size()));
   const auto wall0 = std::chrono::steady_clock::now();
   io::FramePrefetcher frames(seq, cfg.camera.depth_map_factor, popts);
+  if (o.preload) frames.wait_until_decoded();
   SystemOptions sopts;
   sopts.deterministic = o.deterministic;
   if (o.mode) sopts.mode = dynamic::parse_mode(*o.mode);

@@ -40,6 +40,10 @@ struct RunOptions {
   // Feed frames no faster than their timestamps (a live camera) instead of as fast as they are
   // tracked: the cores then have the idle time a real camera leaves the background threads.
   bool realtime = false;
+  // Decode every frame before the first is tracked (memory: ~2 MB a frame) instead of beside
+  // tracking: per-frame times then carry no decoding thread competing for the cores, as in
+  // ORB-SLAM2's measurement (it decodes between frames). The benchmarks use it.
+  bool preload = false;
   // --no-loop-closing (ablations; relocalization stays), --vocabulary FILE.
   bool no_loop_closing = false;
   std::optional<std::filesystem::path> vocabulary;

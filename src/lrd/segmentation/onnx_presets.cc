@@ -57,7 +57,11 @@ OnnxParams voc(int width, int height, const fs::path& file) {
 
 OnnxParams onnx_preset(const std::string& name, const fs::path& model) {
   const auto pick = [&](const char* shipped) { return model.empty() ? util::find_project_file(shipped) : model; };
-  if (name == "fnet") return voc(320, 240, pick("models/fnet-lite.onnx"));  // RGB / 255, no mean/std
+  if (name == "fnet") {  // RGB / 255, no mean/std; logits at half the input size (training/fnet/model.py)
+    OnnxParams p = voc(320, 240, pick("models/fnet-lite.onnx"));
+    p.upsample_logits = true;
+    return p;
+  }
   if (name == "selfie" || name == "selfie-landscape") {
     const bool landscape = name == "selfie-landscape";
     const fs::path file = pick(landscape ? "data/models/selfie_segmentation_landscape.onnx"

@@ -117,17 +117,28 @@ cv::Mat OnnxSegmenter::labels(const cv::Mat& rgb, bool rgb_order) {
     const cv::Mat lab(h, w, CV_32F, const_cast<float*>(out.ptr<float>()));
     lab.convertTo(small, CV_8U);
   } else {
-    const int c = out.size[1];
-    const std::size_t plane = static_cast<std::size_t>(h) * w;
-    const float* data = out.ptr<float>();
-    for (std::size_t i = 0; i < plane; ++i) {
-      int best = 0;
-      float best_score = data[i];
-      for (int k = 1; k < c; ++k) {
-        const float s = data[static_cast<std::size_t>(k) * plane + i];
-        if (s > best_score) best_score = s, best = k;
+    // Logits coarser than the network input (fnet-lite gives H/2) are first brought to the input
+    // size bilinearly, as its training loss does; then arg-max, one vectorised pass per class
+    // (strict >: the first of tied classes wins, like a per-pixel arg-max).
+    const cv::Size in_size(params_.input_width, params_.input_height);
+    const bool upsample = params_.upsample_logits && h < in_size.height && w < in_size.width;
+    const cv::Size size = upsample ? in_size : cv::Size(w, h);
+    small.create(size, CV_8UC1);
+    small.setTo(0);
+    cv::Mat best, plane, better;
+    for (int k = 0; k < out.size[1]; ++k) {
+      const cv::Mat raw(h, w, CV_32F, const_cast<float*>(out.ptr<float>(0, k)));
+      if (upsample)
+        cv::resize(raw, plane, size, 0, 0, cv::INTER_LINEAR);
+      else
+        plane = raw;
+      if (k == 0) {
+        plane.copyTo(best);
+        continue;
       }
-      small.data[i] = static_cast<unsigned char>(best);
+      cv::compare(plane, best, better, cv::CMP_GT);
+      small.setTo(k, better);
+      cv::max(best, plane, best);
     }
   }
   cv::Mat full;
@@ -145,6 +156,7 @@ cv::Mat OnnxSegmenter::segment(const cv::Mat& rgb, bool rgb_order, double /*time
     cv::resize(prob, full, rgb.size(), 0, 0, cv::INTER_LINEAR);
     return full > params_.threshold;
   }
+  if (params_.output == OutputLayout::Logits) return dynamic_from_logits(forward(rgb, rgb_order), rgb.size());
   const cv::Mat label = labels(rgb, rgb_order);
   cv::Mat mask(label.size(), CV_8UC1);
   const std::size_t n = label.total();
@@ -153,6 +165,29 @@ cv::Mat OnnxSegmenter::segment(const cv::Mat& rgb, bool rgb_order, double /*time
     mask.data[i] = (l < is_dynamic_.size() && is_dynamic_[l]) ? 255 : 0;
   }
   return mask;
+}
+
+cv::Mat OnnxSegmenter::dynamic_from_logits(const cv::Mat& out, cv::Size image_size) const {
+  // The mask only asks "is the arg-max class dynamic?": best dynamic score minus best static score,
+  // one vectorised max per class plane instead of a per-pixel arg-max over all classes. At the
+  // network's pixels that is the arg-max decision (an exact tie counts as static); between them the
+  // margin is interpolated bilinearly, which keeps object outlines smooth when the network's output
+  // is coarser than the image (fnet-lite gives H/2).
+  const int c = out.size[1], h = out.size[2], w = out.size[3];
+  const auto plane = [&](int k) { return cv::Mat(h, w, CV_32F, const_cast<float*>(out.ptr<float>(0, k))); };
+  cv::Mat best_dynamic, best_static;
+  for (int k = 0; k < c; ++k) {
+    cv::Mat& best = (k < static_cast<int>(is_dynamic_.size()) && is_dynamic_[k]) ? best_dynamic : best_static;
+    if (best.empty())
+      plane(k).copyTo(best);
+    else
+      cv::max(best, plane(k), best);
+  }
+  if (best_dynamic.empty()) return cv::Mat::zeros(image_size, CV_8UC1);
+  if (best_static.empty()) return cv::Mat(image_size, CV_8UC1, cv::Scalar(255));
+  cv::Mat margin = best_dynamic - best_static;
+  if (margin.size() != image_size) cv::resize(margin, margin, image_size, 0, 0, cv::INTER_LINEAR);
+  return margin > 0.0f;
 }
 
 }  // namespace lrd::segmentation

@@ -20,8 +20,9 @@ class OnnxSegmenter : public Segmenter {
   [[nodiscard]] std::string describe() const override;
 
   // Per-pixel class index at the image's size (CV_8UC1; probability layout: 1 above threshold,
-  // else 0). Logits are arg-maxed at the network's resolution, then resized nearest-neighbour;
-  // probabilities are resized bilinearly, then thresholded.
+  // else 0). Logits are arg-maxed at the network's resolution (with `upsample_logits`, at its
+  // input resolution after a bilinear resize), then resized nearest-neighbour; probabilities are
+  // resized bilinearly, then thresholded. segment() takes a cheaper route to the same decision.
   [[nodiscard]] cv::Mat labels(const cv::Mat& rgb, bool rgb_order);
   // The network's raw output for one image (N x C x H x W as the model gives it).
   [[nodiscard]] cv::Mat forward(const cv::Mat& rgb, bool rgb_order);
@@ -32,6 +33,8 @@ class OnnxSegmenter : public Segmenter {
   [[nodiscard]] cv::Mat blob(const cv::Mat& rgb, bool rgb_order) const;
   // Checks the output of one forward pass against the config; returns its (C, H, W).
   void check_output(const cv::Mat& out);
+  // 255 where the arg-max class of 1 x C x h x w logits is dynamic, at `image_size`.
+  [[nodiscard]] cv::Mat dynamic_from_logits(const cv::Mat& out, cv::Size image_size) const;
 
   OnnxParams params_;
   cv::dnn::Net net_;
