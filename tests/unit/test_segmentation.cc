@@ -212,6 +212,7 @@ TEST(SegmentationParams, DefaultsWithoutASection) {
   EXPECT_EQ(p.backend, lrd::segmentation::Backend::None);
   EXPECT_EQ(p.schedule, Schedule::Async);
   EXPECT_DOUBLE_EQ(p.max_wait_ms, 0.0);  // never wait: measured fastest on 2 cores
+  EXPECT_EQ(p.stride, 2);                // the network on every second frame
   EXPECT_EQ(p.dilation_px, 7);
   EXPECT_EQ(p.onnx.output, lrd::segmentation::OutputLayout::Logits);
   EXPECT_EQ(p.onnx.classes, lrd::segmentation::voc_classes());

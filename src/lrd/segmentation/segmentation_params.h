@@ -51,7 +51,9 @@ struct SegmentationParams {
   // async: longest wait for the current frame's mask. 0 (measured best on 2 cores): never wait,
   // take the previous frame's mask carried over; the network runs beside the next frame's tracking.
   double max_wait_ms = 0.0;
-  int stride = 1;             // async: the network gets every stride-th frame (others: carried masks)
+  // async: the network gets every stride-th frame, the others take its mask carried over. 2
+  // (measured on 2 cores): half the network's CPU, same ATE, the frames between run without it.
+  int stride = 2;
   int dilation_px = 7;        // masks grow by this radius (people's outlines, blur)
   // async: extra dilation per frame of mask age (motion the propagation cannot predict), capped.
   double age_dilation_px = 4.0;
