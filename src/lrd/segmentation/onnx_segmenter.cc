@@ -14,6 +14,12 @@ std::string shape_of(const cv::Mat& m) {
   for (int i = 0; i < m.dims; ++i) s += (i ? "x" : "") + std::to_string(m.size[i]);
   return s;
 }
+
+// Channel k of a 1 x C x H x W (or 1 x H x W) network output as an H x W view, no copy.
+cv::Mat channel_plane(const cv::Mat& out, int k) {
+  const int h = out.size[out.dims - 2], w = out.size[out.dims - 1];
+  return {h, w, CV_32F, const_cast<float*>(out.ptr<float>()) + static_cast<std::size_t>(k) * h * w};
+}
 }  // namespace
 
 OnnxSegmenter::OnnxSegmenter(const OnnxParams& params) : params_(params) {
@@ -107,14 +113,14 @@ cv::Mat OnnxSegmenter::labels(const cv::Mat& rgb, bool rgb_order) {
   const cv::Size image_size = rgb.size();
   cv::Mat small(h, w, CV_8UC1);
   if (params_.output == OutputLayout::Probability) {
-    const cv::Mat prob(h, w, CV_32F, const_cast<float*>(out.ptr<float>()));
+    const cv::Mat prob = channel_plane(out, 0);
     cv::Mat full;
     cv::resize(prob, full, image_size, 0, 0, cv::INTER_LINEAR);
     cv::Mat label = full > params_.threshold;  // 255 / 0
     return label / 255;
   }
   if (params_.output == OutputLayout::Labels) {
-    const cv::Mat lab(h, w, CV_32F, const_cast<float*>(out.ptr<float>()));
+    const cv::Mat lab = channel_plane(out, 0);
     lab.convertTo(small, CV_8U);
   } else {
     // Logits coarser than the network input (fnet-lite gives H/2) are first brought to the input
@@ -127,7 +133,7 @@ cv::Mat OnnxSegmenter::labels(const cv::Mat& rgb, bool rgb_order) {
     small.setTo(0);
     cv::Mat best, plane, better;
     for (int k = 0; k < out.size[1]; ++k) {
-      const cv::Mat raw(h, w, CV_32F, const_cast<float*>(out.ptr<float>(0, k)));
+      const cv::Mat raw = channel_plane(out, k);
       if (upsample)
         cv::resize(raw, plane, size, 0, 0, cv::INTER_LINEAR);
       else
@@ -150,10 +156,8 @@ cv::Mat OnnxSegmenter::segment(const cv::Mat& rgb, bool rgb_order, double /*time
   if (params_.output == OutputLayout::Probability) {
     // Straight to 0/255: the same pixels as labels(), without its 0/1 detour over the full image.
     const cv::Mat out = forward(rgb, rgb_order);
-    const int h = out.size[out.dims - 2], w = out.size[out.dims - 1];
-    const cv::Mat prob(h, w, CV_32F, const_cast<float*>(out.ptr<float>()));
     cv::Mat full;
-    cv::resize(prob, full, rgb.size(), 0, 0, cv::INTER_LINEAR);
+    cv::resize(channel_plane(out, 0), full, rgb.size(), 0, 0, cv::INTER_LINEAR);
     return full > params_.threshold;
   }
   if (params_.output == OutputLayout::Logits) return dynamic_from_logits(forward(rgb, rgb_order), rgb.size());
@@ -173,15 +177,14 @@ cv::Mat OnnxSegmenter::dynamic_from_logits(const cv::Mat& out, cv::Size image_si
   // network's pixels that is the arg-max decision (an exact tie counts as static); between them the
   // margin is interpolated bilinearly, which keeps object outlines smooth when the network's output
   // is coarser than the image (fnet-lite gives H/2).
-  const int c = out.size[1], h = out.size[2], w = out.size[3];
-  const auto plane = [&](int k) { return cv::Mat(h, w, CV_32F, const_cast<float*>(out.ptr<float>(0, k))); };
+  const int c = out.size[1];
   cv::Mat best_dynamic, best_static;
   for (int k = 0; k < c; ++k) {
     cv::Mat& best = (k < static_cast<int>(is_dynamic_.size()) && is_dynamic_[k]) ? best_dynamic : best_static;
     if (best.empty())
-      plane(k).copyTo(best);
+      channel_plane(out, k).copyTo(best);
     else
-      cv::max(best, plane(k), best);
+      cv::max(best, channel_plane(out, k), best);
   }
   if (best_dynamic.empty()) return cv::Mat::zeros(image_size, CV_8UC1);
   if (best_static.empty()) return cv::Mat(image_size, CV_8UC1, cv::Scalar(255));
