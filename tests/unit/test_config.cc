@@ -73,7 +73,7 @@ TEST_F(ConfigTest, EmptyFileGivesDefaults) {
 
 TEST_F(ConfigTest, PresetCameraWithOverrides) {
   const auto cfg = load_config(write("c.yaml",
-                                     "camera:\n  preset: tum2\n  depth_map_factor: 5000\n"
+                                     "camera:\n  preset: tum2\n  depth_map_factor: 5000\n  disparity_sigma: 0.5\n"
                                      "features:\n  n_features: 1500\n  scale_factor: 1.5\n"
                                      "output:\n  dir: runs/a\n  save_keyframes: true\n"));
   const auto tum2 = lrd::camera::camera_preset("tum2");
@@ -81,6 +81,7 @@ TEST_F(ConfigTest, PresetCameraWithOverrides) {
   EXPECT_DOUBLE_EQ(cfg.camera.fx, tum2.fx);
   EXPECT_DOUBLE_EQ(cfg.camera.distortion.k1, tum2.distortion.k1);
   EXPECT_DOUBLE_EQ(cfg.camera.depth_map_factor, 5000.0);  // overridden
+  EXPECT_DOUBLE_EQ(cfg.camera.disparity_sigma, 0.5);
   EXPECT_EQ(cfg.features.n_features, 1500);
   EXPECT_FLOAT_EQ(cfg.features.scale_factor, 1.5f);
   EXPECT_EQ(cfg.features.n_levels, 8);
@@ -145,6 +146,15 @@ TEST_F(ConfigTest, WrongTypeNamesKeyAndLine) {
 TEST_F(ConfigTest, OutOfRangeAndBadPreset) {
   std::string msg = error_of("features:\n  scale_factor: 0.9\n");
   EXPECT_TRUE(contains(msg, "bad.yaml:2: key 'features.scale_factor' must be > 1")) << msg;
+  msg = error_of("camera:\n  preset: tum3\n  disparity_sigma: 0\n");
+  EXPECT_TRUE(contains(msg, "bad.yaml:3: key 'camera.disparity_sigma' must be > 0")) << msg;
+  const auto cfg = load_config(write("t.yaml", "tracking:\n  keyframe_coverage: 1.5\n"));
+  try {
+    (void)lrd::tracking::TrackerParams::from_config(cfg.tracking);
+    ADD_FAILURE() << "expected lrd::Error";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "t.yaml:2: key 'tracking.keyframe_coverage' must be in [0, 1]")) << e.what();
+  }
   msg = error_of("camera:\n  preset: tum4\n");
   EXPECT_TRUE(contains(msg, "bad.yaml:2: key 'camera.preset'")) << msg;
   EXPECT_TRUE(contains(msg, "tum4")) << msg;
@@ -215,6 +225,7 @@ TEST_F(ConfigTest, ShippedDefaultTrackingAndMappingSectionsMatchCodeDefaults) {
   EXPECT_EQ(t.max_local_keyframes, td.max_local_keyframes);
   EXPECT_DOUBLE_EQ(t.reference_ratio, td.reference_ratio);
   EXPECT_EQ(t.keyframe_close_points, td.keyframe_close_points);
+  EXPECT_DOUBLE_EQ(t.keyframe_coverage, td.keyframe_coverage);
   const auto m = lrd::mapping::LocalMapperParams::from_config(cfg.mapping);
   const lrd::mapping::LocalMapperParams md;
   EXPECT_EQ(m.triangulation_neighbours, md.triangulation_neighbours);

@@ -37,7 +37,8 @@ struct Problem {
   std::vector<Observation> outliers;  // injected gross errors
   int observations = 0;
 
-  Problem() {
+  explicit Problem(double disparity_sigma = lrd::camera::PinholeCamera{}.disparity_sigma) {
+    scene.set_disparity_sigma(disparity_sigma);
     T_true = {Eigen::Isometry3d::Identity(), pose(0.01, -0.02, 0.0, 0.08, 0.01, 0.0),
               pose(0.02, -0.04, 0.01, 0.16, -0.01, 0.03), pose(0.0, -0.06, -0.01, 0.24, 0.02, 0.05)};
     for (std::size_t k = 0; k < T_true.size(); ++k)
@@ -190,6 +191,25 @@ TEST(LocalBundleAdjustment, RecoversPosesAndPointsAndRemovesOutliers) {
     if (mp->is_bad()) continue;
     EXPECT_NEAR(mp->normal().norm(), 1.0, 1e-9);
     EXPECT_GT(mp->max_distance_invariance(), mp->min_distance_invariance());
+  }
+}
+
+// Depth weighted by the sensor's disparity noise (1/8 px) holds the points on their measured depth;
+// weighted as a 1 px stereo match (ORB-SLAM2) bundle adjustment lets them slide along their rays
+// to absorb keypoint noise (the drift of docs/slam-core.md, "Depth weight").
+TEST(LocalBundleAdjustment, DepthWeightKeepsPointsOnTheirMeasuredDepth) {
+  Problem weighted;
+  Problem as_stereo(1.0);
+  (void)local_bundle_adjustment(weighted.kfs[3], weighted.map);
+  (void)local_bundle_adjustment(as_stereo.kfs[3], as_stereo.map);
+  const auto w = weighted.point_error(), s = as_stereo.point_error();
+  EXPECT_LT(w.along, 0.25 * s.along) << "along the ray: " << w.along << " m weighted, " << s.along
+                                     << " m as stereo";
+  EXPECT_LT(w.along, 0.003);
+  for (std::size_t k = 1; k < 4; ++k) {
+    SCOPED_TRACE(k);
+    EXPECT_LT(weighted.translation_error(k), 0.005);
+    EXPECT_LT(weighted.rotation_error(k), 0.1);
   }
 }
 

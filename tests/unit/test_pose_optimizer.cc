@@ -34,7 +34,8 @@ Scenario make_scenario(const lrd::camera::PinholeCamera& cam, int n, double outl
     o.point_w = s.T_true.inverse() * p_c;
     const bool outlier = unit(rng) < outlier_fraction;
     o.pixel = outlier ? Eigen::Vector2d(ux(rng), uy(rng)) : Eigen::Vector2d(u + px(rng), v + px(rng));
-    if (stereo) o.u_right = o.pixel.x() - cam.bf / z + (outlier ? 0.0 : px(rng));
+    // The depth sensor's disparity bf / z is measured with the camera's disparity sigma.
+    if (stereo) o.u_right = o.pixel.x() - cam.bf / z + (outlier ? 0.0 : cam.disparity_sigma * px(rng));
     s.obs.push_back(o);
     s.is_outlier.push_back(outlier);
   }

@@ -38,6 +38,8 @@ class TexturedPlane {
   }
 
   [[nodiscard]] const camera::PinholeCamera& camera() const { return camera_; }
+  // The depth noise model of the frames rendered from now on.
+  void set_disparity_sigma(double sigma) { camera_.disparity_sigma = sigma; }
 
   // World point seen at the (undistorted) pixel (u, v) by the camera at T_cw; empty when the
   // plane is not in front of it.

@@ -29,6 +29,27 @@ struct PinholeCamera {
   double depth_map_factor = 5000.0;
   // Colour order of the input images (Camera.RGB: 1 = RGB, 0 = BGR).
   bool rgb_order = true;
+  // Noise of the depth sensor's disparity bf / z (px) for a keypoint of the finest pyramid level,
+  // whose position noise is 1 px; both scale with the level. ORB-SLAM2 treats depth as a stereo
+  // match as noisy as the keypoint (1.0); a structured-light sensor resolves 1/8 px of disparity
+  // (Khoshelham & Elberink 2012), and at 1.0 bundle adjustment slides points along their rays by
+  // centimetres to absorb sub-pixel keypoint noise (docs/slam-core.md, "Depth weight").
+  double disparity_sigma = 0.125;
+
+  // chi2 of an RGB-D observation of the camera-frame point p_c (z > 0): the keypoint (u, v) and,
+  // with depth (u_right >= 0), the measured disparity u - u_right, each whitened by its sigma;
+  // inv_sigma2 is the keypoint level's 1 / sigma^2. Compare with 7.815 (3 dof) or 5.991 (2 dof).
+  [[nodiscard]] double reprojection_chi2(const Eigen::Vector3d& p_c, double u, double v, double u_right,
+                                         double inv_sigma2) const {
+    const double iz = 1.0 / p_c.z();
+    const double eu = u - (fx * p_c.x() * iz + cx), ev = v - (fy * p_c.y() * iz + cy);
+    double e2 = eu * eu + ev * ev;
+    if (u_right >= 0.0) {
+      const double ed = (u - u_right) - bf * iz;
+      e2 += ed * ed / (disparity_sigma * disparity_sigma);
+    }
+    return e2 * inv_sigma2;
+  }
 
   [[nodiscard]] Eigen::Matrix3d K() const;
   [[nodiscard]] cv::Mat K_cv() const;         // 3x3 CV_64F

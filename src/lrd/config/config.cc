@@ -54,6 +54,7 @@ camera::PinholeCamera read_camera(NodeReader& r, std::optional<features::OrbPara
   cam.th_depth = r.get("th_depth", cam.th_depth);
   cam.depth_map_factor = r.get("depth_map_factor", cam.depth_map_factor);
   cam.rgb_order = r.get("rgb_order", cam.rgb_order);
+  cam.disparity_sigma = r.get("disparity_sigma", cam.disparity_sigma);
   r.check(cam.width > 0, "width", "must be > 0");
   r.check(cam.height > 0, "height", "must be > 0");
   r.check(cam.fx > 0.0, "fx", "must be > 0");
@@ -62,6 +63,7 @@ camera::PinholeCamera read_camera(NodeReader& r, std::optional<features::OrbPara
   r.check(cam.bf > 0.0, "bf", "must be > 0");
   r.check(cam.th_depth > 0.0, "th_depth", "must be > 0");
   r.check(cam.depth_map_factor > 0.0, "depth_map_factor", "must be > 0");
+  r.check(cam.disparity_sigma > 0.0, "disparity_sigma", "must be > 0");
   r.finish();
   return cam;
 }

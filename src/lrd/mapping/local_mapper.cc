@@ -206,12 +206,8 @@ void LocalMapper::create_new_map_points(map::KeyFrame* kf) {
       // Reprojection error in both views (chi-square, 2 or 3 dof).
       auto reprojection_ok = [&](const Eigen::Vector3d& p, const cv::KeyPoint& kp, float ur, bool stereo,
                                  const data::Frame& f) {
-        const Eigen::Vector2d uv = cam.project(p);
-        const double ex = uv.x() - kp.pt.x, ey = uv.y() - kp.pt.y;
-        const double s2 = f.level_sigma2()[static_cast<std::size_t>(kp.octave)];
-        if (!stereo) return ex * ex + ey * ey <= 5.991 * s2;
-        const double er = uv.x() - cam.bf / p.z() - ur;
-        return ex * ex + ey * ey + er * er <= 7.8 * s2;
+        const double inv_s2 = f.inv_level_sigma2()[static_cast<std::size_t>(kp.octave)];
+        return cam.reprojection_chi2(p, kp.pt.x, kp.pt.y, stereo ? ur : -1.0, inv_s2) <= (stereo ? 7.8 : 5.991);
       };
       if (!reprojection_ok(p1, kp1, ur1, stereo1, f1) || !reprojection_ok(p2, kp2, ur2, stereo2, f2)) continue;
       // Scale consistency: the distance ratio must agree with the pyramid-level ratio.

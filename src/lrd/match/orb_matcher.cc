@@ -277,7 +277,6 @@ int OrbMatcher::fuse(map::KeyFrame& kf, const std::vector<map::MapPoint*>& point
     if (pc.z() <= 0.0) continue;
     const Eigen::Vector2d uv = cam.project(pc);
     if (!f.in_bounds(uv.x(), uv.y())) continue;
-    const double ur = uv.x() - cam.bf / pc.z();
     const Eigen::Vector3d po = mp->position() - center;
     const float dist = static_cast<float>(po.norm());
     if (dist < mp->min_distance_invariance() || dist > mp->max_distance_invariance()) continue;
@@ -289,14 +288,9 @@ int OrbMatcher::fuse(map::KeyFrame& kf, const std::vector<map::MapPoint*>& point
     for (const std::size_t j : f.features_in_area(uv.x(), uv.y(), radius)) {
       const cv::KeyPoint& kp = f.undistorted()[j];
       if (kp.octave < level - 1 || kp.octave > level) continue;
-      const double ex = uv.x() - kp.pt.x, ey = uv.y() - kp.pt.y;
       const double inv_s2 = f.inv_level_sigma2()[static_cast<std::size_t>(kp.octave)];
-      if (f.u_right(j) >= 0.0f) {
-        const double er = ur - f.u_right(j);
-        if ((ex * ex + ey * ey + er * er) * inv_s2 > 7.8) continue;
-      } else if ((ex * ex + ey * ey) * inv_s2 > 5.99) {
-        continue;
-      }
+      const bool with_depth = f.u_right(j) >= 0.0f;
+      if (cam.reprojection_chi2(pc, kp.pt.x, kp.pt.y, f.u_right(j), inv_s2) > (with_depth ? 7.8 : 5.99)) continue;
       const int d = descriptor_distance(mp->descriptor(), f.descriptors().row(static_cast<int>(j)));
       if (d < best) {
         best = d;

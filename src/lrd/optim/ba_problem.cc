@@ -38,7 +38,9 @@ Observation make_observation(std::size_t kf, std::size_t point, const data::Fram
 
 namespace {
 
-// Residual sqrt(1/sigma^2) * (observed - projected), 2 entries (mono) or 3 (with u_right).
+// Residual sqrt(1/sigma^2) * (observed - projected), 2 entries (mono) or 3 (with depth: the
+// disparity u - u_right against bf / z, divided by the disparity sigma); the same model as
+// PinholeCamera::reprojection_chi2.
 template <int N>
 struct ReprojectionError {
   Intrinsics k;
@@ -54,7 +56,7 @@ struct ReprojectionError {
     const T pu = k.fx * p[0] * iz + k.cx;
     residual[0] = (u - pu) * sqrt_info;
     residual[1] = (v - (k.fy * p[1] * iz + k.cy)) * sqrt_info;
-    if constexpr (N == 3) residual[2] = (ur - (pu - k.bf * iz)) * sqrt_info;
+    if constexpr (N == 3) residual[2] = ((u - ur) - k.bf * iz) * (sqrt_info / k.disparity_sigma);
     return true;
   }
 };
@@ -83,7 +85,10 @@ double chi2(const Intrinsics& k, const PoseBlock& pose, const PointBlock& point,
   const double iz = 1.0 / p[2];
   const double pu = k.fx * p[0] * iz + k.cx, pv = k.fy * p[1] * iz + k.cy;
   double e2 = (o.u - pu) * (o.u - pu) + (o.v - pv) * (o.v - pv);
-  if (o.ur >= 0) e2 += (o.ur - (pu - k.bf * iz)) * (o.ur - (pu - k.bf * iz));
+  if (o.ur >= 0) {
+    const double ed = ((o.u - o.ur) - k.bf * iz) / k.disparity_sigma;
+    e2 += ed * ed;
+  }
   return e2 * o.inv_sigma2;
 }
 

@@ -1,8 +1,9 @@
 #pragma once
 // The bundle-adjustment problem shared by local BA (local_bundle_adjuster.h) and global BA
 // (global_bundle_adjuster.h): keyframe poses and map points as Ceres parameter blocks,
-// reprojection residuals weighted by the keypoint's pyramid level (3 entries with the RGB-D
-// virtual right coordinate), optional Huber kernel, and an abort flag checked each iteration.
+// reprojection residuals weighted by the keypoint's pyramid level (3 entries with depth: the
+// disparity bf / z, weighted by the camera's disparity_sigma), optional Huber kernel, and an
+// abort flag checked each iteration.
 #include <ceres/ceres.h>
 
 #include <Eigen/Geometry>
@@ -26,6 +27,7 @@ Eigen::Isometry3d from_block(const PoseBlock& b);
 
 struct Intrinsics {
   double fx, fy, cx, cy, bf;
+  double disparity_sigma;  // PinholeCamera::disparity_sigma
 };
 
 struct Observation {

@@ -30,7 +30,7 @@ GlobalBundleAdjustmentStats global_bundle_adjustment(map::Map& map, std::uint64_
     kfs = map.keyframes();  // id order: keyframe 0 first
     if (kfs.size() < 2) return stats;
     const camera::PinholeCamera& cam = kfs.front()->features().camera();
-    k = {cam.fx, cam.fy, cam.cx, cam.cy, cam.bf};
+    k = {cam.fx, cam.fy, cam.cx, cam.cy, cam.bf, cam.disparity_sigma};
     // Keyframe 0 last, so that it is the one fixed pose block.
     std::rotate(kfs.begin(), kfs.begin() + 1, kfs.end());
     std::map<const map::KeyFrame*, std::size_t> index;

@@ -31,7 +31,7 @@ LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map:
     if (keyframe->is_bad()) return stats;
     change_index = map.big_change_index();
     const camera::PinholeCamera& cam = keyframe->features().camera();
-    k = {cam.fx, cam.fy, cam.cx, cam.cy, cam.bf};
+    k = {cam.fx, cam.fy, cam.cx, cam.cy, cam.bf, cam.disparity_sigma};
     const std::uint64_t tag = keyframe->id();
     kfs.push_back(keyframe);
     keyframe->local_ba_for_kf = tag;

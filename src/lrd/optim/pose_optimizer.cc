@@ -11,7 +11,8 @@ using geometry::Vector6d;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 struct Residual {
-  Eigen::Vector3d e = Eigen::Vector3d::Zero();   // (du, dv, du_right); third unused for mono
+  // (du, dv, d_disparity / disparity_sigma); third unused for mono. PinholeCamera::reprojection_chi2's model.
+  Eigen::Vector3d e = Eigen::Vector3d::Zero();
   Eigen::Matrix<double, 3, 6> J = Eigen::Matrix<double, 3, 6>::Zero();  // d e / d xi (left perturbation)
   bool stereo = false;
   bool valid = false;  // point in front of the camera
@@ -31,12 +32,13 @@ Residual residual(const camera::PinholeCamera& cam, const PoseObservation& o, co
   const double u = cam.fx * p.x() * iz + cam.cx, v = cam.fy * p.y() * iz + cam.cy;
   r.e.x() = o.pixel.x() - u;
   r.e.y() = o.pixel.y() - v;
-  if (r.stereo) r.e.z() = o.u_right - (u - cam.bf * iz);
+  const double inv_ds = 1.0 / cam.disparity_sigma;
+  if (r.stereo) r.e.z() = ((o.pixel.x() - o.u_right) - cam.bf * iz) * inv_ds;
   if (!with_jacobian) return r;
   // d(prediction)/d(p_c), then d(p_c)/d(xi) = [-[p_c]x, I]; the residual is obs - prediction.
   Eigen::Matrix<double, 3, 3> dproj;
-  dproj << cam.fx * iz, 0.0, -cam.fx * p.x() * iz2, 0.0, cam.fy * iz, -cam.fy * p.y() * iz2, cam.fx * iz, 0.0,
-      -cam.fx * p.x() * iz2 + cam.bf * iz2;
+  dproj << cam.fx * iz, 0.0, -cam.fx * p.x() * iz2, 0.0, cam.fy * iz, -cam.fy * p.y() * iz2, 0.0, 0.0,
+      -cam.bf * iz2 * inv_ds;
   Eigen::Matrix<double, 3, 6> dp;
   dp.leftCols<3>() = -geometry::skew(p);
   dp.rightCols<3>().setIdentity();

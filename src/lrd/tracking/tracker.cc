@@ -12,6 +12,7 @@
 #include "lrd/map/map.h"
 #include "lrd/map/map_point.h"
 #include "lrd/mapping/local_mapper.h"
+#include "lrd/tracking/view_coverage.h"
 
 namespace lrd::tracking {
 
@@ -33,6 +34,8 @@ TrackerParams TrackerParams::from_config(config::NodeReader r) {
   p.reference_ratio = r.get("reference_ratio", p.reference_ratio);
   r.check(p.reference_ratio > 0 && p.reference_ratio <= 1, "reference_ratio", "must be in (0, 1]");
   p.keyframe_close_points = r.get("keyframe_close_points", p.keyframe_close_points);
+  p.keyframe_coverage = r.get("keyframe_coverage", p.keyframe_coverage);
+  r.check(p.keyframe_coverage >= 0 && p.keyframe_coverage <= 1, "keyframe_coverage", "must be in [0, 1]");
   p.min_relocalization_inliers = r.get("min_relocalization_inliers", p.min_relocalization_inliers);
   r.check(p.min_relocalization_inliers >= 6, "min_relocalization_inliers", "must be >= 6");
   r.finish();
@@ -379,14 +382,20 @@ bool Tracker::need_new_keyframe(const data::Frame& frame) const {
     else ++untracked_close;
   }
   const bool need_close = tracked_close < 100 && untracked_close > 70;
+  // The tracked points span too little of the view (docs/slam-core.md, "Keyframe coverage").
+  const double coverage = params_.keyframe_coverage > 0.0 ? tracked_view_coverage(frame) : 1.0;
+  const bool need_coverage = coverage < params_.keyframe_coverage;
   const double ratio = n_kfs < 2 ? 0.4 : params_.reference_ratio;
   const bool c1a = frame.id() >= last_keyframe_frame_id_ + max_frames;
   const bool c1b =
       frame.id() >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(params_.min_frames_between_keyframes) && idle;
   const bool c1c = inliers_ < ref_matches * 0.25 || need_close;
-  const bool c2 = (inliers_ < ref_matches * ratio || need_close) && inliers_ > 15;
-  spdlog::debug("frame {}: keyframe? inliers {} ref {} (kf {}) close {}/{} idle {} c1 {}{}{} c2 {}", frame.id(), inliers_,
-                ref_matches, reference_kf_->id(), tracked_close, untracked_close, idle, c1a, c1b, c1c, c2);
+  // Coverage joins c2 only: its keyframes wait until local mapping is idle (c1b) instead of
+  // interrupting it, so the rule adds no mapping load to a busy thread.
+  const bool c2 = (inliers_ < ref_matches * ratio || need_close || need_coverage) && inliers_ > 15;
+  spdlog::debug("frame {}: keyframe? inliers {} ref {} (kf {}) close {}/{} coverage {:.2f} idle {} c1 {}{}{} c2 {}",
+                frame.id(), inliers_, ref_matches, reference_kf_->id(), tracked_close, untracked_close, coverage, idle,
+                c1a, c1b, c1c, c2);
   if (!((c1a || c1b || c1c) && c2)) return false;
   if (idle) return true;
   mapper_.interrupt_ba();
