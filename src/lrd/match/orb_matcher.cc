@@ -289,8 +289,8 @@ int OrbMatcher::fuse(map::KeyFrame& kf, const std::vector<map::MapPoint*>& point
       const cv::KeyPoint& kp = f.undistorted()[j];
       if (kp.octave < level - 1 || kp.octave > level) continue;
       const double inv_s2 = f.inv_level_sigma2()[static_cast<std::size_t>(kp.octave)];
-      const bool with_depth = f.u_right(j) >= 0.0f;
-      if (cam.reprojection_chi2(pc, kp.pt.x, kp.pt.y, f.u_right(j), inv_s2) > (with_depth ? 7.8 : 5.99)) continue;
+      const double chi2_max = f.u_right(j) >= 0.0f ? 7.8 : 5.99;
+      if (cam.reprojection_chi2(pc, kp.pt.x, kp.pt.y, f.u_right(j), inv_s2) > chi2_max) continue;
       const int d = descriptor_distance(mp->descriptor(), f.descriptors().row(static_cast<int>(j)));
       if (d < best) {
         best = d;
