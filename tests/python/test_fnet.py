@@ -199,6 +199,37 @@ def test_train_cli_resume_and_evaluate(tmp_path, capsys):
     assert "| aeroplane |" in text and "MPA / mIoU" in text and "ms/frame" in text
 
 
+def test_train_cli_init_fine_tunes_from_a_whole_model(tmp_path):
+    from training.fnet import train
+    root = str(tmp_path / "voc")
+    _write_voc(root)
+    common = ["--voc", root, "--config", "fnet-lite", "--batch", "2", "--freeze-epochs", "0", "--max-steps", "1",
+              "--epochs", "1", "--lr", "0"]  # lr 0: the weights must come through unchanged
+    first = str(tmp_path / "first")
+    assert train.main(common + ["--out", first, "--input-size", "32x32"]) == 0
+    second = str(tmp_path / "second")  # another input size, as for the shipped model
+    assert train.main(common + ["--out", second, "--input-size", "48x32", "--init",
+                                os.path.join(first, "last.pt")]) == 0
+    a, b = torch.load(os.path.join(first, "last.pt")), torch.load(os.path.join(second, "last.pt"))
+    assert b["epoch"] == 1 and len(b["history"]) == 1  # a fresh run, not a resume
+    for k, v in a["model"].items():
+        if "running" not in k and "num_batches" not in k:  # BN statistics still move in train mode
+            assert torch.equal(v, b["model"][k]), k
+    # Another configuration: what fits is taken, the rest starts fresh; nothing fitting is an error.
+    from training.fnet.train import init_from
+    other = build_model("fnet-lite", lateral="ghost")
+    path = str(tmp_path / "other.pt")
+    torch.save({"model": other.state_dict(), "config": other.cfg.to_dict()}, path)
+    target = build_model("fnet-lite")
+    init_from(target, path)
+    got = target.state_dict()
+    assert torch.equal(got["encoder.stem.primary.0.weight"], other.state_dict()["encoder.stem.primary.0.weight"])
+    assert "decoder.lateral.0.0.weight" in got and "decoder.lateral.0.0.weight" not in other.state_dict()
+    torch.save({"model": {"unrelated": torch.zeros(3)}}, path)
+    with pytest.raises(SystemExit, match="no tensor that fits"):
+        init_from(build_model("fnet-lite"), path)
+
+
 @pytest.mark.parametrize("mode", ["mask", "first"])
 def test_export_onnx_matches_torch_in_opencv_dnn(tmp_path, mode):
     cv2 = pytest.importorskip("cv2")

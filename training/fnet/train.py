@@ -108,12 +108,30 @@ def save(path: str, model, optimizer, scheduler, epoch, history, best, args) -> 
                 "torch_rng": torch.get_rng_state()}, path)
 
 
+def init_from(model: FNet, path: str) -> None:
+    """--init: the checkpoint's weights where they fit this model (all of them for the same config)."""
+    ckpt = torch.load(path, map_location="cpu")
+    state = ckpt.get("model", ckpt)
+    own = model.state_dict()
+    taken = {k: v for k, v in state.items() if k in own and own[k].shape == v.shape}
+    if not taken:
+        raise SystemExit(f"{path}: --init checkpoint has no tensor that fits FNet {model.cfg.name}")
+    if ckpt.get("config") == model.cfg.to_dict() and len(taken) != len(own):
+        raise SystemExit(f"{path}: --init checkpoint has the same configuration but not all its tensors")
+    model.load_state_dict(taken, strict=False)
+    fresh = sorted({k.rsplit(".", 1)[0] for k in own if k not in taken})
+    print(f"init: {len(taken)} of {len(own)} tensors from {path}"
+          + (f"; fresh: {', '.join(fresh)}" if fresh else ""), flush=True)
+
+
 def parse_args(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--voc", required=True, help="VOC-layout root (JPEGImages, SegmentationClass[Aug], ImageSets)")
     ap.add_argument("--out", required=True, help="output directory for checkpoints, history and loss.png")
     ap.add_argument("--config", default="fnet", choices=["fnet", "fnet-lite"])
     ap.add_argument("--ghost-s", type=int, default=None, help="override the Ghost ratio s (Table 3)")
+    ap.add_argument("--lateral", choices=["ghost", "conv"], default=None,
+                    help="override the decoder's 1x1 lateral projections (fnet: ghost, fnet-lite: conv)")
     ap.add_argument("--epochs", type=int, default=200)
     ap.add_argument("--batch", type=int, default=4)
     ap.add_argument("--lr", type=float, default=1e-3)
@@ -122,6 +140,9 @@ def parse_args(argv=None):
     ap.add_argument("--lr-factor", type=float, default=0.5, help="ReduceLROnPlateau factor")
     ap.add_argument("--val-fraction", type=float, default=0.1, help="held out when there is no val.txt")
     ap.add_argument("--encoder-weights", help="state_dict/checkpoint to initialise the encoder from")
+    ap.add_argument("--init", help="checkpoint whose model starts this run (fine-tuning, e.g. for another input "
+                                   "size; optimizer and epochs start afresh). Another configuration: the tensors "
+                                   "whose names and shapes match are taken, the rest start fresh (listed)")
     ap.add_argument("--resume", help="checkpoint to resume from (e.g. OUT/last.pt)")
     ap.add_argument("--device", default="cpu", choices=["cpu", "cuda"])
     ap.add_argument("--input-size", type=parse_size, default=(320, 240), help="WxH crop size")
@@ -145,13 +166,17 @@ def main(argv=None) -> int:
     device = torch.device(args.device)
     os.makedirs(args.out, exist_ok=True)
 
+    if sum(bool(v) for v in (args.init, args.encoder_weights, args.resume)) > 1:
+        raise SystemExit("--init, --encoder-weights and --resume exclude each other")
     ckpt = torch.load(args.resume, map_location="cpu") if args.resume else None
     if ckpt is not None:
         model = FNet(config_from_dict(ckpt["config"]))
         model.load_state_dict(ckpt["model"])
     else:
-        model = build_model(args.config, s=args.ghost_s)
-        if args.encoder_weights:
+        model = build_model(args.config, s=args.ghost_s, lateral=args.lateral)
+        if args.init:
+            init_from(model, args.init)
+        elif args.encoder_weights:
             sd = torch.load(args.encoder_weights, map_location="cpu")
             sd = sd.get("model", sd)
             enc = {k[len("encoder."):]: v for k, v in sd.items() if k.startswith("encoder.")} or sd
