@@ -1,10 +1,10 @@
 """FNet CPU speed in OpenCV DNN, relative to ORB extraction on the same machine.
 
-  /usr/bin/python3 training/bench_fnet.py [--threads 2] [--size 320x240] [--lite-size 176x132] [--runs 30]
+  /usr/bin/python3 training/bench_fnet.py [--threads 2] [--size 320x240] [--lite-size 160x120] [--runs 30]
 
 Y = median wall time of cv2.ORB_create(1000, 1.2, 8).detectAndCompute on a 640x480 grey photo
 (the per-frame cost the SLAM front end already pays). fnet-lite's target is <= 0.4 Y per frame on
-2 cores, i.e. segmentation costs less than half a feature extraction; it runs at 176x132 (the
+2 cores, i.e. segmentation costs less than half a feature extraction; it runs at 160x120 (the
 shipped model's input, the whole camera frame resized), full FNet at 320x240. Weights are random
 (speed does not depend on them); the models are exported with training/fnet/export.py, exactly as
 the C++ side will load them.
@@ -71,8 +71,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--size", type=parse_size, default=(320, 240), help="fnet's input WxH (default 320x240)")
-    ap.add_argument("--lite-size", type=parse_size, default=(176, 132),
-                    help="fnet-lite's input WxH (default 176x132, the shipped model's)")
+    ap.add_argument("--lite-size", type=parse_size, default=(160, 120),
+                    help="fnet-lite's input WxH (default 160x120, the shipped model's)")
     ap.add_argument("--runs", type=int, default=30, help="timed runs for ORB and fnet-lite (fnet: runs/3)")
     a = ap.parse_args(argv)
     cv2.setNumThreads(a.threads)

@@ -60,8 +60,8 @@ double iou(const cv::Mat& a, const cv::Mat& b) {
 
 TEST(OnnxPresets, EachPresetCarriesItsModelsContract) {
   const auto fnet = onnx_preset("fnet");
-  EXPECT_EQ(fnet.input_width, 176);
-  EXPECT_EQ(fnet.input_height, 132);
+  EXPECT_EQ(fnet.input_width, 160);
+  EXPECT_EQ(fnet.input_height, 120);
   EXPECT_EQ(fnet.output, OutputLayout::Logits);
   EXPECT_EQ(fnet.classes.size(), 21u);
   EXPECT_EQ(fnet.dynamic_ids, (std::vector<int>{15, 3, 8, 10, 12, 13, 17}));

@@ -75,8 +75,8 @@ CONFIGS: Dict[str, FNetConfig] = {
     # layers dominate. No in-graph x2 of the logits (a 21-channel Resize at full size was 0.7 ms, and
     # the C++ argmax 4x the pixels; cv2.dnn's stride-2 Deconvolution alone costs > 10 ms): logits come
     # out at H/2. A 3x3 stem with 8 intrinsic maps instead of 7x7 with 4: 6.3 -> 4.8 ms together.
-    # At 192x144 (the run-time size) the network is bound by per-layer overhead: plain 1x1 conv
-    # laterals instead of Ghost ones drop 10 of its 147 layers, 2.55 -> 2.28 ms.
+    # At run-time sizes (160x120 for the shipped model) it is bound by per-layer overhead: plain
+    # 1x1 conv laterals instead of Ghost ones drop 10 of its 147 layers (at 192x144, 2.55 -> 2.28 ms).
     "fnet-lite": FNetConfig(name="fnet-lite", stem=16, stem_k=3, widths=(8, 16, 32, 64), blocks=(1, 1, 1, 1),
                             dec=(4, 12, 16, 32), head=8, final_up="none", lateral="conv"),
 }

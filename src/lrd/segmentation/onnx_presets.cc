@@ -58,7 +58,7 @@ OnnxParams voc(int width, int height, const fs::path& file) {
 OnnxParams onnx_preset(const std::string& name, const fs::path& model) {
   const auto pick = [&](const char* shipped) { return model.empty() ? util::find_project_file(shipped) : model; };
   if (name == "fnet") {  // RGB / 255, no mean/std; logits at half the input size (training/fnet/model.py)
-    OnnxParams p = voc(176, 132, pick("models/fnet-lite.onnx"));
+    OnnxParams p = voc(160, 120, pick("models/fnet-lite.onnx"));
     p.upsample_logits = true;
     return p;
   }

@@ -22,8 +22,8 @@ enum class OutputLayout {
 
 struct OnnxParams {
   std::filesystem::path model;     // resolved: absolute, or relative to the working directory
-  int input_width = 176;           // the network's input size (fnet-lite's)
-  int input_height = 132;
+  int input_width = 160;           // the network's input size (fnet-lite's)
+  int input_height = 120;
   double scale = 1.0 / 255.0;      // pixel value x scale, then (x - mean) / std per channel
   std::vector<double> mean{0.0, 0.0, 0.0};  // in the network's channel order
   std::vector<double> std{1.0, 1.0, 1.0};
