@@ -23,6 +23,7 @@
 
 #include "bench/yardstick.h"
 #include "lrd/segmentation/onnx_presets.h"
+#include "lrd/segmentation/own_kernels.h"
 #include "lrd/segmentation/onnx_segmenter.h"
 #include "lrd/synth/synthetic_sequence.h"
 #include "lrd/util/error.h"
@@ -34,6 +35,7 @@ struct Row {
   std::string preset, input, note;
   double ms = 0.0;          // the whole OnnxSegmenter::segment call
   double network_ms = 0.0;  // the network alone: setInput + forward on a ready blob
+  double opencv_network_ms = 0.0;  // the same with OpenCV's layers only (no own kernels)
   double y_ms = 0.0;        // the yardstick, timed frame by frame between this preset's runs
   double photo_ms = 0.0;    // the whole call on real photographs (when there are any)
   double photo_y_ms = 0.0;  // the yardstick on those photographs, timed between them
@@ -118,20 +120,32 @@ int main(int argc, char** argv) {
       lrd::segmentation::OnnxSegmenter seg(params);
       r.input = fmt::format("{}x{}", params.input_width, params.input_height);
       // The network alone, as the issue's "ms per frame in OpenCV DNN" reads: a second copy of the
-      // model, fed a ready blob (pixel values do not change its time).
-      cv::dnn::Net net = cv::dnn::readNetFromONNX(params.model.string());
-      net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
-      net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+      // model, fed a ready blob (pixel values do not change its time); with our kernels as the
+      // segmenter has them (segmentation.onnx.own_kernels), and a third copy with OpenCV's only.
       const cv::Size in(params.input_width, params.input_height);
       const cv::Mat blob =
           cv::dnn::blobFromImage(bgr[0], params.scale, in, cv::Scalar(), true, false, CV_32F);
+      const auto read_net = [&](bool own) {
+        std::optional<lrd::segmentation::OwnKernelsScope> scope;
+        if (own) scope.emplace();
+        cv::dnn::Net n = cv::dnn::readNetFromONNX(params.model.string());
+        n.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+        n.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+        n.setInput(blob);
+        (void)n.forward();  // warm-up (and the layers OpenCV creates only now) inside the scope
+        return n;
+      };
+      cv::dnn::Net net = read_net(params.own_kernels), opencv_net = read_net(false);
       const auto run_network = [&] {
         net.setInput(blob);
         (void)net.forward();
       };
+      const auto run_opencv_network = [&] {
+        opencv_net.setInput(blob);
+        (void)opencv_net.forward();
+      };
       (void)seg.segment(bgr[0], false, 0.0);  // warm-up: first-run allocations
-      run_network();
-      std::vector<double> ms, network_ms, y_ms;
+      std::vector<double> ms, network_ms, opencv_ms, y_ms;
       const auto ms_of = [](auto&& fn) {
         const auto t0 = std::chrono::steady_clock::now();
         fn();
@@ -141,9 +155,11 @@ int main(int argc, char** argv) {
         y_ms.push_back(ms_of([&] { orb->detectAndCompute(grey[i], cv::noArray(), keypoints, descriptors); }));
         ms.push_back(ms_of([&] { (void)seg.segment(bgr[i], false, 0.0); }));
         network_ms.push_back(ms_of(run_network));
+        opencv_ms.push_back(ms_of(run_opencv_network));
       }
       r.ms = lrd::bench::median_of(ms);
       r.network_ms = lrd::bench::median_of(network_ms);
+      r.opencv_network_ms = lrd::bench::median_of(opencv_ms);
       r.y_ms = lrd::bench::median_of(y_ms);
       all_y.insert(all_y.end(), y_ms.begin(), y_ms.end());
       if (!photos.empty()) {
@@ -168,17 +184,18 @@ int main(int argc, char** argv) {
       "# Segmentation presets: time per 640x480 frame (OpenCV DNN, CPU)\n\n"
       "{} frames of synthetic walking_xyz; medians of the network alone (OpenCV DNN `forward` on a "
       "ready blob) and of the whole `OnnxSegmenter::segment` call (resize, normalisation, network, "
-      "post-processing to a full-size mask). Y = {:.2f} ms overall: median `cv::ORB` detectAndCompute on "
+      "post-processing to a full-size mask); the network with our kernels where OpenCV 4.6 is slow "
+      "(`segmentation.onnx.own_kernels`, the default) and with OpenCV's layers only. Y = {:.2f} ms overall: median `cv::ORB` detectAndCompute on "
       "the same frames, timed frame by frame between each preset's runs; each row's ratios use the Y "
       "timed beside it (column Y). Targets are judged on the network alone for `fnet` (issue 6: "
       "\"ms per frame in OpenCV DNN\") and on the whole call for `selfie-landscape` (issue 8: \"time per "
       "frame of each preset\").\n\n"
-      "| preset | input | Y ms | network ms | × Y | whole call ms | × Y | target |\n"
-      "|---|---|---:|---:|---:|---:|---:|---|\n",
+      "| preset | input | Y ms | network ms | × Y | OpenCV layers only ms | × Y | whole call ms | × Y | target |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n",
       bgr.size(), y);
   for (const Row& r : rows) {
     if (!r.note.empty()) {
-      md += fmt::format("| {} | | — | — | — | — | — | not run: {} |\n", r.preset, r.note);
+      md += fmt::format("| {} | | — | — | — | — | — | — | — | not run: {} |\n", r.preset, r.note);
       continue;
     }
     const double judged = (r.preset == "fnet" ? r.network_ms : r.ms) / r.y_ms;
@@ -186,8 +203,9 @@ int main(int argc, char** argv) {
                                                         r.preset == "fnet" ? "network" : "whole call",
                                                         judged <= *r.target_y ? "met" : "NOT met")
                                           : "";
-    md += fmt::format("| {} | {} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {} |\n", r.preset, r.input,
-                      r.y_ms, r.network_ms, r.network_ms / r.y_ms, r.ms, r.ms / r.y_ms, target);
+    md += fmt::format("| {} | {} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {} |\n", r.preset,
+                      r.input, r.y_ms, r.network_ms, r.network_ms / r.y_ms, r.opencv_network_ms,
+                      r.opencv_network_ms / r.y_ms, r.ms, r.ms / r.y_ms, target);
   }
   if (!photos.empty()) {
     md += fmt::format(

@@ -107,7 +107,7 @@ TEST(OnnxPresets, ConfigPresetKeySetsTheBackendAndDefaults) {
   lrd::test::TempDir tmp("presets");
   const fs::path file = tmp.write("c.yaml",
                                   "segmentation:\n  preset: selfie-landscape\n  onnx:\n    model: /m/l.onnx\n"
-                                  "    threshold: 0.7\n");
+                                  "    threshold: 0.7\n    own_kernels: false\n");
   const auto cfg = lrd::config::load_config(file);
   const auto s = lrd::segmentation::SegmentationParams::from_config(cfg.segmentation, file.parent_path());
   EXPECT_EQ(s.backend, Backend::Onnx);
@@ -115,6 +115,7 @@ TEST(OnnxPresets, ConfigPresetKeySetsTheBackendAndDefaults) {
   EXPECT_EQ(s.onnx.input_height, 144);
   EXPECT_EQ(s.onnx.output, OutputLayout::Probability);
   EXPECT_DOUBLE_EQ(s.onnx.threshold, 0.7);  // the section's keys override the preset
+  EXPECT_FALSE(s.onnx.own_kernels);
   EXPECT_EQ(s.onnx.dynamic_ids, (std::vector<int>{0}));
 
   const fs::path bad = tmp.write("bad.yaml", "segmentation:\n  preset: selfy\n");
@@ -166,5 +167,27 @@ TEST(ConvertedSelfie, LandscapeOutputEqualsTheReferenceConversion) {
     ASSERT_EQ(a.total(), b.total());
     EXPECT_LT(cv::norm(a.reshape(1, 1), b.reshape(1, 1), cv::NORM_INF), 1e-3);
     EXPECT_GE(iou(ours.segment(img, false, 0.0), theirs.segment(img, false, 0.0)), 0.98);
+  }
+}
+
+// Our kernels (segmentation.onnx.own_kernels, on by default) change the speed of the
+// selfie models, not their output: the same network output as OpenCV's layers alone.
+TEST(ConvertedSelfie, OwnKernelsGiveOpenCvsOutput) {
+  for (const char* preset : {"selfie", "selfie-landscape"}) {
+    SCOPED_TRACE(preset);
+    REQUIRE_SHARED_AND_CONVERTED(preset);
+    auto params = onnx_preset(preset);
+    ASSERT_TRUE(params.own_kernels);
+    OnnxSegmenter ours(params);
+    params.own_kernels = false;
+    OnnxSegmenter opencv(params);
+    for (const char* name : {"mrcnn_ex01.jpg", "pphs_3.png"}) {
+      SCOPED_TRACE(name);
+      const cv::Mat img = cv::imread((shared_dir() / "data/people" / name).string(), cv::IMREAD_COLOR);
+      ASSERT_FALSE(img.empty());
+      const cv::Mat a = ours.forward(img, false), b = opencv.forward(img, false);
+      ASSERT_EQ(a.total(), b.total());
+      EXPECT_LT(cv::norm(a.reshape(1, 1), b.reshape(1, 1), cv::NORM_INF), 1e-4);
+    }
   }
 }

@@ -4,6 +4,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <optional>
+
+#include "lrd/segmentation/own_kernels.h"
 #include "lrd/util/error.h"
 
 namespace lrd::segmentation {
@@ -27,6 +30,10 @@ OnnxSegmenter::OnnxSegmenter(const OnnxParams& params) : params_(params) {
   if (params_.model.empty()) throw Error("segmentation.onnx.model: no model file given");
   if (!std::filesystem::is_regular_file(params_.model, ec))
     throw file_error(params_.model, "segmentation model not found");
+  // OpenCV creates the layers while it reads the model (and the rest at the first forward pass):
+  // both inside the scope.
+  std::optional<OwnKernelsScope> own_kernels;
+  if (params_.own_kernels) own_kernels.emplace();
   try {
     net_ = cv::dnn::readNetFromONNX(params_.model.string());
   } catch (const cv::Exception& e) {

@@ -110,6 +110,7 @@ SegmentationParams SegmentationParams::from_config(config::NodeReader r, const f
     q.dynamic_ids.clear();
     q.threshold = o.get("threshold", q.threshold);
     q.upsample_logits = o.get("upsample_logits", q.upsample_logits);
+    q.own_kernels = o.get("own_kernels", q.own_kernels);
     o.check(q.threshold > 0 && q.threshold < 1, "threshold", "must be in (0, 1)");
     if (q.output == OutputLayout::Probability) {
       q.dynamic_ids = {0};
