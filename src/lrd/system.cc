@@ -345,9 +345,23 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
 io::Trajectory System::trajectory() const {
   std::lock_guard lock(impl_->map.mutex());
   io::Trajectory out;
+  const tracking::FrameRecord* previous = nullptr;
   for (const tracking::FrameRecord& r : impl_->tracker.records()) {
     if (r.state != TrackingState::Ok || r.reference == nullptr) continue;
     out.push_back({r.timestamp, map::resolve_pose(r.reference, r.T_c_ref).inverse()});
+    // Tripwire for a rare divergence seen once in a threaded static-mode run (one frame tens of
+    // km off, its neighbours fine; not reproduced in 60 reruns): a camera does not move metres
+    // between consecutive tracked frames. Logged with what resolved the pose, for the report.
+    if (previous != nullptr && out.size() >= 2) {
+      const double jump = (out.back().pose.translation() - out[out.size() - 2].pose.translation()).norm();
+      const double dt = r.timestamp - previous->timestamp;
+      if (jump > 5.0 && dt < 1.0)
+        spdlog::error("trajectory: frame {} is {:.3g} m from frame {} ({:.3f} s before); reference keyframe {}{}, "
+                      "{:.3g} m from it, {} inliers - a tracking or map error, please report it with this log",
+                      r.frame_id, jump, previous->frame_id, dt, r.reference->id(),
+                      r.reference->is_bad() ? " (culled)" : "", r.T_c_ref.translation().norm(), r.inliers);
+    }
+    previous = &r;
   }
   return out;
 }

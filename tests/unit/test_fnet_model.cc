@@ -91,4 +91,27 @@ TEST(FnetModel, DynamicMaskAgreesWithTheLabels) {
   EXPECT_LT(static_cast<double>(differ), 0.05 * static_cast<double>(person)) << differ << " of " << person;
 }
 
+// Our kernels (segmentation.onnx.own_kernels) are on for fnet too; today it has none of the layers
+// they take (its up-samplings are nearest), and whatever a retrained model gains, its logits must
+// stay OpenCV's.
+TEST(FnetModel, OwnKernelsGiveOpenCvsLogits) {
+  if (!fs::exists(kModel)) GTEST_SKIP() << kModel << " has not shipped yet";
+  lrd::segmentation::OnnxParams params = fnet_params();
+  ASSERT_TRUE(params.own_kernels);
+  lrd::segmentation::OnnxSegmenter ours(params);
+  params.own_kernels = false;
+  lrd::segmentation::OnnxSegmenter opencv(params);
+  lrd::synth::SynthOptions o;
+  o.preset = "walking_xyz";
+  o.seed = 1;
+  o.frames = 60;
+  const lrd::synth::SyntheticSequence seq(o);
+  for (int i = 0; i < seq.size(); i += 30) {
+    const lrd::synth::SynthFrame f = seq.render(i);
+    const cv::Mat a = ours.forward(f.rgb, false), b = opencv.forward(f.rgb, false);
+    ASSERT_EQ(a.total(), b.total());
+    EXPECT_LT(cv::norm(a.reshape(1, 1), b.reshape(1, 1), cv::NORM_INF), 1e-3);
+  }
+}
+
 }  // namespace

@@ -171,7 +171,8 @@ TEST(ConvertedSelfie, LandscapeOutputEqualsTheReferenceConversion) {
 }
 
 // Our kernels (segmentation.onnx.own_kernels, on by default) change the speed of the
-// selfie models, not their output: the same network output as OpenCV's layers alone.
+// selfie models, not their output: the same network output as OpenCV's layers alone, to the float
+// rounding of sums taken in another order through some 50 layers, and the same masks.
 TEST(ConvertedSelfie, OwnKernelsGiveOpenCvsOutput) {
   for (const char* preset : {"selfie", "selfie-landscape"}) {
     SCOPED_TRACE(preset);
@@ -181,13 +182,16 @@ TEST(ConvertedSelfie, OwnKernelsGiveOpenCvsOutput) {
     OnnxSegmenter ours(params);
     params.own_kernels = false;
     OnnxSegmenter opencv(params);
-    for (const char* name : {"mrcnn_ex01.jpg", "pphs_3.png"}) {
+    for (const char* name : kPhotos) {
       SCOPED_TRACE(name);
       const cv::Mat img = cv::imread((shared_dir() / "data/people" / name).string(), cv::IMREAD_COLOR);
       ASSERT_FALSE(img.empty());
       const cv::Mat a = ours.forward(img, false), b = opencv.forward(img, false);
       ASSERT_EQ(a.total(), b.total());
-      EXPECT_LT(cv::norm(a.reshape(1, 1), b.reshape(1, 1), cv::NORM_INF), 1e-4);
+      EXPECT_LT(cv::norm(a.reshape(1, 1), b.reshape(1, 1), cv::NORM_INF), 5e-4);
+      const cv::Mat mask_ours = ours.segment(img, false, 0.0), mask_opencv = opencv.segment(img, false, 0.0);
+      // Only a pixel whose probability is within rounding of the threshold may differ.
+      EXPECT_LE(cv::countNonZero(mask_ours != mask_opencv), 10);
     }
   }
 }

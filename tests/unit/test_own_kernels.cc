@@ -235,4 +235,73 @@ TEST(OwnKernels, SigmoidMatchesOpenCv) {
   EXPECT_LT(max_abs_diff(outs[0], outs[1]), 1e-6);
 }
 
+// One layer of `type` with `params` on `input`, ours (inside a scope) or OpenCV's.
+Result run_layer(const std::string& type, cv::dnn::LayerParams params, const cv::Mat& input, bool own) {
+  std::optional<OwnKernelsScope> scope;
+  if (own) scope.emplace();
+  params.name = "layer";
+  params.type = type;
+  cv::dnn::Net net;
+  const int id = net.addLayerToPrev(params.name, params.type, params);
+  net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net.setInput(input);
+  Result res;
+  res.out = net.forward().clone();
+  res.type = net.getLayer(id)->type;
+  return res;
+}
+
+TEST(OwnKernels, LinearResizeMatchesOpenCv) {
+  // As OpenCV's ONNX importer describes Resize(linear, half_pixel) to a fixed size; x2 takes our
+  // kernel, other sizes cv::resize per plane as OpenCV's layer does.
+  for (const auto& [h, w] : {std::pair{14, 18}, std::pair{10, 13}, std::pair{7, 9}}) {
+    SCOPED_TRACE(::testing::Message() << "to " << h << "x" << w);
+    cv::dnn::LayerParams p;
+    p.set("interpolation", "opencv_linear");
+    p.set("align_corners", false);
+    p.set("height", h);
+    p.set("width", w);
+    const cv::Mat x = random_input(2, 5, 7, 9);
+    const Result ours = run_layer("Resize", p, x, true), theirs = run_layer("Resize", p, x, false);
+    EXPECT_EQ(ours.type, "LinearResize");
+    EXPECT_EQ(theirs.type, "Resize");
+    ASSERT_EQ(ours.out.total(), theirs.out.total());
+    for (int d = 0; d < 4; ++d) ASSERT_EQ(ours.out.size[d], theirs.out.size[d]) << "dimension " << d;
+    EXPECT_LT(max_abs_diff(ours.out, theirs.out), 1e-5);
+  }
+  cv::dnn::LayerParams nearest;
+  nearest.set("interpolation", "nearest");
+  nearest.set("height", 14);
+  nearest.set("width", 18);
+  EXPECT_EQ(run_layer("Resize", nearest, random_input(1, 2, 7, 9), true).type, "Resize");
+}
+
+TEST(OwnKernels, GlobalAveragePoolingMatchesOpenCv) {
+  cv::dnn::LayerParams p;
+  p.set("global_pooling", true);
+  p.set("pool", "AVE");
+  // Small (summed on the calling thread) and large (in parallel) inputs.
+  for (const cv::Mat& x : {random_input(2, 6, 9, 11), random_input(1, 8, 100, 100)}) {
+    const Result ours = run_layer("Pooling", p, x, true), theirs = run_layer("Pooling", p, x, false);
+    EXPECT_EQ(ours.type, "GlobalAveragePooling");
+    ASSERT_EQ(ours.out.total(), theirs.out.total());
+    for (int d = 0; d < 4; ++d) ASSERT_EQ(ours.out.size[d], theirs.out.size[d]) << "dimension " << d;
+    EXPECT_LT(max_abs_diff(ours.out, theirs.out), 1e-5);
+  }
+  cv::dnn::LayerParams max_pool;
+  max_pool.set("global_pooling", true);
+  max_pool.set("pool", "MAX");
+  EXPECT_EQ(run_layer("Pooling", max_pool, random_input(1, 2, 5, 5), true).type, "Pooling");
+}
+
+TEST(OwnKernels, HardSwishMatchesOpenCv) {
+  // -5..5 spans both clamps; 3 x 70 x 90 values: several tasks and a partial vector at the end.
+  cv::Mat x(std::vector<int>{1, 3, 70, 91}, CV_32F);
+  cv::RNG(9).fill(x, cv::RNG::UNIFORM, -5.0, 5.0);
+  const Result ours = run_layer("HardSwish", {}, x, true), theirs = run_layer("HardSwish", {}, x, false);
+  EXPECT_EQ(ours.type, "OwnHardSwish");
+  EXPECT_EQ(theirs.type, "HardSwish");
+  EXPECT_EQ(max_abs_diff(ours.out, theirs.out), 0.0);  // the same arithmetic
+}
+
 }  // namespace

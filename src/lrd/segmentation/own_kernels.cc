@@ -5,7 +5,10 @@
 
 #include <mutex>
 
+#include "lrd/segmentation/global_average_pooling_layer.h"
 #include "lrd/segmentation/grouped_convolution_layer.h"
+#include "lrd/segmentation/hard_swish_layer.h"
+#include "lrd/segmentation/linear_resize_layer.h"
 #include "lrd/segmentation/sigmoid_layer.h"
 #include "lrd/segmentation/transposed_convolution_layer.h"
 
@@ -35,6 +38,22 @@ cv::Ptr<cv::dnn::Layer> create_sigmoid(cv::dnn::LayerParams& params) {
   return cv::dnn::SigmoidLayer::create(params);
 }
 
+cv::Ptr<cv::dnn::Layer> create_hard_swish(cv::dnn::LayerParams& params) {
+  if (own_kernels_enabled) return cv::makePtr<HardSwishLayer>(params);
+  return cv::dnn::HardSwishLayer::create(params);
+}
+
+cv::Ptr<cv::dnn::Layer> create_resize(cv::dnn::LayerParams& params) {
+  if (own_kernels_enabled && LinearResizeLayer::handles(params)) return cv::makePtr<LinearResizeLayer>(params);
+  return cv::dnn::ResizeLayer::create(params);
+}
+
+cv::Ptr<cv::dnn::Layer> create_pooling(cv::dnn::LayerParams& params) {
+  if (own_kernels_enabled && GlobalAveragePoolingLayer::handles(params))
+    return cv::makePtr<GlobalAveragePoolingLayer>(params);
+  return cv::dnn::PoolingLayer::create(params);
+}
+
 void register_own_kernels() {
   static std::once_flag once;
   // The factory keeps a stack of constructors per type and uses the newest.
@@ -42,6 +61,9 @@ void register_own_kernels() {
     cv::dnn::LayerFactory::registerLayer("Convolution", create_convolution);
     cv::dnn::LayerFactory::registerLayer("Deconvolution", create_deconvolution);
     cv::dnn::LayerFactory::registerLayer("Sigmoid", create_sigmoid);
+    cv::dnn::LayerFactory::registerLayer("HardSwish", create_hard_swish);
+    cv::dnn::LayerFactory::registerLayer("Resize", create_resize);
+    cv::dnn::LayerFactory::registerLayer("Pooling", create_pooling);
   });
 }
 

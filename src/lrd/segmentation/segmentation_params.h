@@ -35,9 +35,9 @@ struct OnnxParams {
   // logits layout: logits coarser than the input are resized bilinearly to the input size before
   // the arg-max (how FNet-lite is trained); false: arg-max first, then nearest-neighbour.
   bool upsample_logits = false;
-  // Our kernels where OpenCV 4.6 DNN is slow (depthwise convolutions other than 3x3, transposed
-  // convolutions with kernel == stride, sigmoid; own_kernels.h); false: OpenCV's layers only. The
-  // output is the same to float rounding.
+  // Our kernels where OpenCV 4.6 DNN is slow (own_kernels.h: non-3x3 depthwise and RGB-input
+  // convolutions, kernel == stride transposed convolutions, sigmoid, linear resize, global average
+  // pooling); false: OpenCV's layers only. The output is the same to float rounding.
   bool own_kernels = true;
   // Indices of dynamic_classes in classes (filled by from_config).
   std::vector<int> dynamic_ids;
