@@ -304,4 +304,27 @@ TEST(OwnKernels, HardSwishMatchesOpenCv) {
   EXPECT_EQ(max_abs_diff(ours.out, theirs.out), 0.0);  // the same arithmetic
 }
 
+TEST(OwnKernels, ZeroPaddingMatchesOpenCv) {
+  // As OpenCV's ONNX importer writes the pads of a convolution with uneven ones: (before, after)
+  // per axis, N and C untouched. Small (one thread) and large (in parallel) tensors.
+  for (const cv::Mat& x : {random_input(2, 3, 9, 11), random_input(1, 16, 72, 128)}) {
+    for (const std::vector<int>& pads : {std::vector<int>{0, 0, 0, 0, 0, 1, 0, 1}, {0, 0, 0, 0, 1, 2, 1, 2},
+                                         {0, 0, 0, 0, 3, 0, 0, 2}}) {
+      cv::dnn::LayerParams p;
+      p.set("paddings", cv::dnn::DictValue::arrayInt(pads.data(), static_cast<int>(pads.size())));
+      const Result ours = run_layer("Padding", p, x, true), theirs = run_layer("Padding", p, x, false);
+      EXPECT_EQ(ours.type, "ZeroPadding");
+      EXPECT_EQ(theirs.type, "Padding");
+      ASSERT_EQ(ours.out.total(), theirs.out.total());
+      for (int d = 0; d < 4; ++d) ASSERT_EQ(ours.out.size[d], theirs.out.size[d]) << "dimension " << d;
+      EXPECT_EQ(max_abs_diff(ours.out, theirs.out), 0.0);
+    }
+  }
+  cv::dnn::LayerParams reflect;
+  const int pads[] = {0, 0, 0, 0, 1, 1, 1, 1};
+  reflect.set("paddings", cv::dnn::DictValue::arrayInt(pads, 8));
+  reflect.set("type", "reflect");
+  EXPECT_EQ(run_layer("Padding", reflect, random_input(1, 2, 5, 5), true).type, "Padding");
+}
+
 }  // namespace

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 
+#include "lrd/segmentation/layer_blobs.h"
+
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <immintrin.h>
 #define LRD_AVX2_KERNEL 1
@@ -162,14 +164,16 @@ GroupedConvolutionLayer::GroupedConvolutionLayer(const cv::dnn::LayerParams& par
   pad_left_ = to_int(geometry.pads_begin[1]);
   pad_bottom_ = to_int(geometry.pads_end[0]);
   pad_right_ = to_int(geometry.pads_end[1]);
-  const cv::Mat wc = w.isContinuous() ? w : w.clone();
-  weights_.assign(wc.ptr<float>(), wc.ptr<float>() + wc.total());
-  bias_.assign(static_cast<std::size_t>(out_channels_), 0.0f);
-  // ONNX's importer gives the bias as a second blob without "bias_term"; Caffe's says it.
-  if (params.blobs.size() > 1 && params.get<bool>("bias_term", true)) {
-    const cv::Mat b = params.blobs[1].isContinuous() ? params.blobs[1] : params.blobs[1].clone();
-    CV_Assert(b.total() == static_cast<std::size_t>(out_channels_) && b.depth() == CV_32F);
-    bias_.assign(b.ptr<float>(), b.ptr<float>() + b.total());
+  weights_ = weights_of(params);
+  bias_ = bias_of(params, out_channels_);
+  if (w.size[1] > 1 || w.size[0] != groups_) {
+    // Not depthwise: the AVX2 kernel's layout, output channels in fours interleaved per tap.
+    const std::size_t taps = weights_.size() / static_cast<std::size_t>(out_channels_);
+    weights_x4_.resize(weights_.size());
+    for (int b = 0; b < out_channels_ / 4; ++b)
+      for (std::size_t t = 0; t < taps; ++t)
+        for (int kk = 0; kk < 4; ++kk)
+          weights_x4_[(b * taps + t) * 4 + kk] = weights_[(static_cast<std::size_t>(b) * 4 + kk) * taps + t];
   }
 }
 
@@ -186,9 +190,9 @@ bool GroupedConvolutionLayer::handles(const cv::dnn::LayerParams& params,
   const int groups = params.get<int>("group", 1);
   // Few input channels per group, output channels in fours: the AVX2 kernel (OpenCV's GEMM path is
   // faster than ours without it). 1x1 kernels stay OpenCV's, a GEMM is right for them.
-  if (w.size[1] <= 4 && (w.size[0] / groups) % 4 == 0 && w.size[2] * w.size[3] > 1 && !(w.size[1] == 1 && w.size[0] == groups))
-    return cpu_has_avx2_fma();
-  if (groups < 2 || w.size[0] != groups || w.size[1] != 1) return false;  // depthwise
+  const bool depthwise = groups >= 2 && w.size[0] == groups && w.size[1] == 1;
+  if (!depthwise)
+    return w.size[1] <= 4 && (w.size[0] / groups) % 4 == 0 && w.size[2] * w.size[3] > 1 && cpu_has_avx2_fma();
   // OpenCV's own 3x3 depthwise path is fast: keep it.
   return !(geometry.kernel_size[0] == 3 && geometry.kernel_size[1] == 3);
 }
@@ -250,57 +254,46 @@ void GroupedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::Out
   const float* src = in.ptr<float>();
   float* dst = out.ptr<float>();
   const std::size_t taps = g.tap_at.size();
-  // Depthwise: each task pads the one plane its output reads. Otherwise all planes first.
-  const bool depthwise = in_per_group == 1 && out_per_group == 1;
-  if (!depthwise) {
-    cv::parallel_for_(cv::Range(0, batch * in_channels_), [&](const cv::Range& r) {
-      for (int p = r.start; p < r.end; ++p) pad_plane(g, src + p * in_plane, padded_.data() + p * g.plane_size);
-    });
-  }
-#ifdef LRD_AVX2_KERNEL
-  if (!depthwise) {
-    // Tasks of (image, 4 output channels, output row); the weights of each 4 interleaved per tap.
-    const int blocks = out_channels_ / 4;
-    if (weights_x4_.empty()) {
-      weights_x4_.resize(weights_.size());
-      for (int b = 0; b < blocks; ++b)
-        for (std::size_t t = 0; t < taps; ++t)
-          for (int kk = 0; kk < 4; ++kk)
-            weights_x4_[(b * taps + t) * 4 + kk] = weights_[(static_cast<std::size_t>(b) * 4 + kk) * taps + t];
-    }
-    cv::parallel_for_(cv::Range(0, batch * blocks * g.out_h), [&](const cv::Range& r) {
-      for (int task = r.start; task < r.end; ++task) {
-        const int y = task % g.out_h, b = (task / g.out_h) % blocks, n = task / (g.out_h * blocks);
-        const int k = 4 * b;
-        const std::size_t first_plane =
-            static_cast<std::size_t>(n) * in_channels_ + (k / out_per_group) * in_per_group;
-        float* const out[4] = {dst + (static_cast<std::size_t>(n) * out_channels_ + k) * out_plane,
-                               dst + (static_cast<std::size_t>(n) * out_channels_ + k + 1) * out_plane,
-                               dst + (static_cast<std::size_t>(n) * out_channels_ + k + 2) * out_plane,
-                               dst + (static_cast<std::size_t>(n) * out_channels_ + k + 3) * out_plane};
-        convolve_row_x4_avx2(g, padded_.data() + first_plane * g.plane_size, weights_x4_.data() + b * taps * 4,
-                             bias_.data() + k, out, y);
-        if (activation_)
-          for (int kk = 0; kk < 4; ++kk) {
-            float* o = out[kk] + static_cast<std::size_t>(y) * g.out_w;
-            activation_->forwardSlice(o, o, g.out_w, out_plane, k + kk, k + kk + 1);
-          }
+  if (in_per_group == 1 && out_per_group == 1) {
+    // Depthwise: each task pads the one plane its output channel reads, then sums it.
+    cv::parallel_for_(cv::Range(0, batch * out_channels_), [&](const cv::Range& r) {
+      for (int p = r.start; p < r.end; ++p) {
+        const int k = p % out_channels_;
+        float* planes = padded_.data() + static_cast<std::size_t>(p) * g.plane_size;
+        pad_plane(g, src + p * in_plane, planes);
+        float* o = dst + p * out_plane;
+        convolve(g, planes, weights_.data() + k * taps, bias_[static_cast<std::size_t>(k)], o);
+        if (activation_) activation_->forwardSlice(o, o, to_int(out_plane), out_plane, k, k + 1);
       }
     });
     return;
   }
-#endif
-  cv::parallel_for_(cv::Range(0, batch * out_channels_), [&](const cv::Range& r) {
-    for (int p = r.start; p < r.end; ++p) {
-      const int n = p / out_channels_, k = p % out_channels_;
+#ifdef LRD_AVX2_KERNEL
+  // Few input channels per group (handles() took it only with AVX2): all planes padded first, then
+  // tasks of (image, 4 output channels, output row).
+  cv::parallel_for_(cv::Range(0, batch * in_channels_), [&](const cv::Range& r) {
+    for (int p = r.start; p < r.end; ++p) pad_plane(g, src + p * in_plane, padded_.data() + p * g.plane_size);
+  });
+  const int blocks = out_channels_ / 4;
+  cv::parallel_for_(cv::Range(0, batch * blocks * g.out_h), [&](const cv::Range& r) {
+    for (int task = r.start; task < r.end; ++task) {
+      const int y = task % g.out_h, b = (task / g.out_h) % blocks, n = task / (g.out_h * blocks);
+      const int k = 4 * b;
       const std::size_t first_plane = static_cast<std::size_t>(n) * in_channels_ + (k / out_per_group) * in_per_group;
-      float* planes = padded_.data() + first_plane * g.plane_size;
-      if (depthwise) pad_plane(g, src + first_plane * in_plane, planes);
-      float* o = dst + p * out_plane;
-      convolve(g, planes, weights_.data() + k * taps, bias_[static_cast<std::size_t>(k)], o);
-      if (activation_) activation_->forwardSlice(o, o, to_int(out_plane), out_plane, k, k + 1);
+      float* const first_out = dst + (static_cast<std::size_t>(n) * out_channels_ + k) * out_plane;
+      float* const out4[4] = {first_out, first_out + out_plane, first_out + 2 * out_plane, first_out + 3 * out_plane};
+      convolve_row_x4_avx2(g, padded_.data() + first_plane * g.plane_size, weights_x4_.data() + b * taps * 4,
+                           bias_.data() + k, out4, y);
+      if (activation_)
+        for (int kk = 0; kk < 4; ++kk) {
+          float* o = out4[kk] + static_cast<std::size_t>(y) * g.out_w;
+          activation_->forwardSlice(o, o, g.out_w, out_plane, k + kk, k + kk + 1);
+        }
     }
   });
+#else
+  CV_Error(cv::Error::StsNotImplemented, "GroupedConvolutionLayer: only depthwise without AVX2");
+#endif
 }
 
 }  // namespace lrd::segmentation

@@ -11,6 +11,7 @@
 #include "lrd/segmentation/linear_resize_layer.h"
 #include "lrd/segmentation/sigmoid_layer.h"
 #include "lrd/segmentation/transposed_convolution_layer.h"
+#include "lrd/segmentation/zero_padding_layer.h"
 
 namespace lrd::segmentation {
 
@@ -54,6 +55,11 @@ cv::Ptr<cv::dnn::Layer> create_pooling(cv::dnn::LayerParams& params) {
   return cv::dnn::PoolingLayer::create(params);
 }
 
+cv::Ptr<cv::dnn::Layer> create_padding(cv::dnn::LayerParams& params) {
+  if (own_kernels_enabled && ZeroPaddingLayer::handles(params)) return cv::makePtr<ZeroPaddingLayer>(params);
+  return cv::dnn::PaddingLayer::create(params);
+}
+
 void register_own_kernels() {
   static std::once_flag once;
   // The factory keeps a stack of constructors per type and uses the newest.
@@ -64,6 +70,7 @@ void register_own_kernels() {
     cv::dnn::LayerFactory::registerLayer("HardSwish", create_hard_swish);
     cv::dnn::LayerFactory::registerLayer("Resize", create_resize);
     cv::dnn::LayerFactory::registerLayer("Pooling", create_pooling);
+    cv::dnn::LayerFactory::registerLayer("Padding", create_padding);
   });
 }
 

@@ -4,11 +4,12 @@
 // reads; the output is OpenCV's to float rounding (tests/unit/test_own_kernels.cc).
 //
 // OpenCV creates a network's layers while it reads the file, through its layer factory: we add our
-// own constructors for "Convolution", "Deconvolution", "Sigmoid", "HardSwish", "Resize" and
-// "Pooling" to it once per process; they build our layer (GroupedConvolutionLayer,
+// own constructors for "Convolution", "Deconvolution", "Sigmoid", "HardSwish", "Resize", "Pooling"
+// and "Padding" to it once per process; they build our layer (GroupedConvolutionLayer,
 // TransposedConvolutionLayer, SigmoidLayer, HardSwishLayer, LinearResizeLayer,
-// GlobalAveragePoolingLayer) where we have a kernel for it while an OwnKernelsScope is alive on the
-// calling thread, and OpenCV's own layer otherwise (other threads, other networks, other layers).
+// GlobalAveragePoolingLayer, ZeroPaddingLayer) where we have a kernel for it while an
+// OwnKernelsScope is alive on the calling thread, and OpenCV's own layer otherwise (other threads,
+// other networks, other layers).
 
 namespace lrd::segmentation {
 

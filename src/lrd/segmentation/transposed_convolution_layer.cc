@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "lrd/segmentation/layer_blobs.h"
+
 namespace lrd::segmentation {
 
 TransposedConvolutionLayer::TransposedConvolutionLayer(const cv::dnn::LayerParams& params,
@@ -16,14 +18,8 @@ TransposedConvolutionLayer::TransposedConvolutionLayer(const cv::dnn::LayerParam
   out_channels_ = w.size[1];
   kernel_h_ = static_cast<int>(geometry.kernel_size[0]);
   kernel_w_ = static_cast<int>(geometry.kernel_size[1]);
-  const cv::Mat wc = w.isContinuous() ? w : w.clone();
-  weights_.assign(wc.ptr<float>(), wc.ptr<float>() + wc.total());
-  bias_.assign(static_cast<std::size_t>(out_channels_), 0.0f);
-  if (params.blobs.size() > 1 && params.get<bool>("bias_term", true)) {
-    const cv::Mat b = params.blobs[1].isContinuous() ? params.blobs[1] : params.blobs[1].clone();
-    CV_Assert(b.total() == static_cast<std::size_t>(out_channels_) && b.depth() == CV_32F);
-    bias_.assign(b.ptr<float>(), b.ptr<float>() + b.total());
-  }
+  weights_ = weights_of(params);
+  bias_ = bias_of(params, out_channels_);
 }
 
 bool TransposedConvolutionLayer::handles(const cv::dnn::LayerParams& params,

@@ -1,0 +1,27 @@
+#pragma once
+// The weights and bias of a layer as OpenCV's importers hand them to a layer constructor
+// (LayerParams::blobs), copied out as flat float arrays for our kernels (own_kernels.h).
+#include <opencv2/dnn.hpp>
+
+#include <vector>
+
+namespace lrd::segmentation {
+
+// blobs[0], all of it, in its own order.
+inline std::vector<float> weights_of(const cv::dnn::LayerParams& params) {
+  const cv::Mat w = params.blobs[0].isContinuous() ? params.blobs[0] : params.blobs[0].clone();
+  CV_Assert(w.depth() == CV_32F);
+  return {w.ptr<float>(), w.ptr<float>() + w.total()};
+}
+
+// blobs[1] (`count` values) or zeros. ONNX's importer gives the bias as a second blob without
+// "bias_term"; Caffe's importer says it.
+inline std::vector<float> bias_of(const cv::dnn::LayerParams& params, int count) {
+  if (params.blobs.size() < 2 || !params.get<bool>("bias_term", true))
+    return std::vector<float>(static_cast<std::size_t>(count), 0.0f);
+  const cv::Mat b = params.blobs[1].isContinuous() ? params.blobs[1] : params.blobs[1].clone();
+  CV_Assert(b.total() == static_cast<std::size_t>(count) && b.depth() == CV_32F);
+  return {b.ptr<float>(), b.ptr<float>() + b.total()};
+}
+
+}  // namespace lrd::segmentation
