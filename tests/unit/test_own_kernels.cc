@@ -6,6 +6,9 @@
 #include <opencv2/dnn.hpp>
 
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "lrd/segmentation/own_kernels.h"
 
@@ -55,25 +58,37 @@ struct Result {
   std::string type;
 };
 
-// One convolution (and optionally a ReLU after it) on `input`; with `own`, inside a scope.
-Result run(const Geometry& g, bool bias, bool relu, const cv::Mat& input, bool own) {
+// A chain of layers (type, parameters) on `input`, read inside an OwnKernelsScope with `own`:
+// the output and the type of the layer the first one became.
+Result run_net(const std::vector<std::pair<std::string, cv::dnn::LayerParams>>& layers, const cv::Mat& input,
+               bool own) {
   std::optional<OwnKernelsScope> scope;
   if (own) scope.emplace();
   cv::dnn::Net net;
-  cv::dnn::LayerParams p = conv_params(g, bias);
-  const int id = net.addLayerToPrev(p.name, p.type, p);
-  if (relu) {
-    cv::dnn::LayerParams r;
-    r.name = "relu";
-    r.type = "ReLU";
-    net.addLayerToPrev(r.name, r.type, r);
+  int first = -1;
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    cv::dnn::LayerParams p = layers[i].second;
+    p.type = layers[i].first;
+    p.name = "layer" + std::to_string(i);
+    const int id = net.addLayerToPrev(p.name, p.type, p);
+    if (i == 0) first = id;
   }
   net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net.setInput(input);
   Result res;
   res.out = net.forward().clone();
-  res.type = net.getLayer(id)->type;
+  res.type = net.getLayer(first)->type;
   return res;
+}
+
+Result run_layer(const std::string& type, const cv::dnn::LayerParams& params, const cv::Mat& input, bool own) {
+  return run_net({{type, params}}, input, own);
+}
+
+// One convolution (and optionally a ReLU after it, which OpenCV fuses into it).
+Result run(const Geometry& g, bool bias, bool relu, const cv::Mat& input, bool own) {
+  if (relu) return run_net({{"Convolution", conv_params(g, bias)}, {"ReLU", {}}}, input, own);
+  return run_layer("Convolution", conv_params(g, bias), input, own);
 }
 
 cv::Mat random_input(int n, int c, int h, int w) {
@@ -161,11 +176,7 @@ TEST(OwnKernels, GroupedConvolutionLeavesTheRestToOpenCv) {
 // A transposed convolution with kernel == stride (selfie's last layer: 16 channels to 1 at x2),
 // with and without the sigmoid after it (which OpenCV fuses into it).
 Result run_transposed(int in_c, int out_c, int kh, int kw, bool sigmoid, const cv::Mat& input, bool own) {
-  std::optional<OwnKernelsScope> scope;
-  if (own) scope.emplace();
   cv::dnn::LayerParams p;
-  p.name = "up";
-  p.type = "Deconvolution";
   p.set("kernel_h", kh);
   p.set("kernel_w", kw);
   p.set("stride_h", kh);
@@ -176,20 +187,8 @@ Result run_transposed(int in_c, int out_c, int kh, int kw, bool sigmoid, const c
   rng.fill(w, cv::RNG::UNIFORM, -1.0, 1.0);
   rng.fill(b, cv::RNG::UNIFORM, -1.0, 1.0);
   p.blobs = {w, b};
-  cv::dnn::Net net;
-  const int id = net.addLayerToPrev(p.name, p.type, p);
-  if (sigmoid) {
-    cv::dnn::LayerParams s;
-    s.name = "sigmoid";
-    s.type = "Sigmoid";
-    net.addLayerToPrev(s.name, s.type, s);
-  }
-  net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
-  net.setInput(input);
-  Result res;
-  res.out = net.forward().clone();
-  res.type = net.getLayer(id)->type;
-  return res;
+  if (sigmoid) return run_net({{"Deconvolution", p}, {"Sigmoid", {}}}, input, own);
+  return run_layer("Deconvolution", p, input, own);
 }
 
 TEST(OwnKernels, TransposedConvolutionMatchesOpenCv) {
@@ -213,42 +212,13 @@ TEST(OwnKernels, TransposedConvolutionMatchesOpenCv) {
 }
 
 TEST(OwnKernels, SigmoidMatchesOpenCv) {
-  // 3 x 70 x 90 values: several of its 4096-value tasks and a partial one; -30..30 reaches both tails.
+  // 3 x 70 x 90 values: several of its 16384-value tasks and a partial one; -30..30 reaches both tails.
   cv::Mat x(std::vector<int>{1, 3, 70, 90}, CV_32F);
   cv::RNG(5).fill(x, cv::RNG::UNIFORM, -30.0, 30.0);
-  cv::Mat outs[2];
-  std::string types[2];
-  for (int own = 0; own < 2; ++own) {
-    std::optional<OwnKernelsScope> scope;
-    if (own) scope.emplace();
-    cv::dnn::LayerParams p;
-    p.name = "sigmoid";
-    p.type = "Sigmoid";
-    cv::dnn::Net net;
-    const int id = net.addLayerToPrev(p.name, p.type, p);
-    net.setInput(x);
-    outs[own] = net.forward().clone();
-    types[own] = net.getLayer(id)->type;
-  }
-  EXPECT_EQ(types[0], "Sigmoid");
-  EXPECT_EQ(types[1], "OwnSigmoid");
-  EXPECT_LT(max_abs_diff(outs[0], outs[1]), 1e-6);
-}
-
-// One layer of `type` with `params` on `input`, ours (inside a scope) or OpenCV's.
-Result run_layer(const std::string& type, cv::dnn::LayerParams params, const cv::Mat& input, bool own) {
-  std::optional<OwnKernelsScope> scope;
-  if (own) scope.emplace();
-  params.name = "layer";
-  params.type = type;
-  cv::dnn::Net net;
-  const int id = net.addLayerToPrev(params.name, params.type, params);
-  net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
-  net.setInput(input);
-  Result res;
-  res.out = net.forward().clone();
-  res.type = net.getLayer(id)->type;
-  return res;
+  const Result ours = run_layer("Sigmoid", {}, x, true), theirs = run_layer("Sigmoid", {}, x, false);
+  EXPECT_EQ(ours.type, "OwnSigmoid");
+  EXPECT_EQ(theirs.type, "Sigmoid");
+  EXPECT_LT(max_abs_diff(ours.out, theirs.out), 1e-6);
 }
 
 TEST(OwnKernels, LinearResizeMatchesOpenCv) {

@@ -6,6 +6,8 @@
 #include <cctype>
 #include <string>
 
+#include "lrd/segmentation/layer_data.h"
+
 namespace lrd::segmentation {
 
 GlobalAveragePoolingLayer::GlobalAveragePoolingLayer(const cv::dnn::LayerParams& params) {
@@ -38,15 +40,13 @@ bool GlobalAveragePoolingLayer::getMemoryShapes(const std::vector<cv::dnn::MatSh
 
 void GlobalAveragePoolingLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
                                         cv::OutputArrayOfArrays /*internals*/) {
-  std::vector<cv::Mat> inputs, outputs;
-  inputs_arr.getMatVector(inputs);
-  outputs_arr.getMatVector(outputs);
-  const cv::Mat& in = inputs[0];
-  CV_Assert(in.depth() == CV_32F && in.isContinuous() && outputs[0].isContinuous());
+  LayerBlobs blobs = blobs_of(inputs_arr, outputs_arr);
+  const cv::Mat& in = blobs.in;
+  cv::Mat& out = blobs.out;
   const int planes = in.size[0] * in.size[1];
   const int n = in.size[2] * in.size[3];
   const float* src = in.ptr<float>();
-  float* dst = outputs[0].ptr<float>();
+  float* dst = out.ptr<float>();
   const auto pool = [&](const cv::Range& r) {
     for (int p = r.start; p < r.end; ++p) {
       // Eight running sums: one would chain every addition on the last (4 cycles each).

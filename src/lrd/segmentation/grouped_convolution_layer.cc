@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "lrd/segmentation/layer_blobs.h"
+#include "lrd/segmentation/layer_data.h"
 
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <immintrin.h>
@@ -219,12 +219,10 @@ bool GroupedConvolutionLayer::setActivation(const cv::Ptr<cv::dnn::ActivationLay
 
 void GroupedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
                                       cv::OutputArrayOfArrays /*internals*/) {
-  std::vector<cv::Mat> inputs, outputs;
-  inputs_arr.getMatVector(inputs);
-  outputs_arr.getMatVector(outputs);
-  const cv::Mat& in = inputs[0];
-  cv::Mat& out = outputs[0];
-  CV_Assert(in.depth() == CV_32F && in.isContinuous() && out.isContinuous() && in.size[1] == in_channels_);
+  LayerBlobs blobs = blobs_of(inputs_arr, outputs_arr);
+  const cv::Mat& in = blobs.in;
+  cv::Mat& out = blobs.out;
+  CV_Assert(in.size[1] == in_channels_);
   Layout g{};
   g.in_h = in.size[2];
   g.in_w = in.size[3];

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "lrd/segmentation/layer_blobs.h"
+#include "lrd/segmentation/layer_data.h"
 
 namespace lrd::segmentation {
 
@@ -59,12 +59,10 @@ bool TransposedConvolutionLayer::setActivation(const cv::Ptr<cv::dnn::Activation
 
 void TransposedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
                                          cv::OutputArrayOfArrays /*internals*/) {
-  std::vector<cv::Mat> inputs, outputs;
-  inputs_arr.getMatVector(inputs);
-  outputs_arr.getMatVector(outputs);
-  const cv::Mat& in = inputs[0];
-  cv::Mat& out = outputs[0];
-  CV_Assert(in.depth() == CV_32F && in.isContinuous() && out.isContinuous() && in.size[1] == in_channels_);
+  LayerBlobs blobs = blobs_of(inputs_arr, outputs_arr);
+  const cv::Mat& in = blobs.in;
+  cv::Mat& out = blobs.out;
+  CV_Assert(in.size[1] == in_channels_);
   const int batch = in.size[0], h = in.size[2], w = in.size[3];
   const int out_w = w * kernel_w_;
   const std::size_t in_plane = static_cast<std::size_t>(h) * w;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <string>
 
+#include "lrd/segmentation/layer_data.h"
+
 namespace lrd::segmentation {
 
 ZeroPaddingLayer::ZeroPaddingLayer(const cv::dnn::LayerParams& params) {
@@ -43,12 +45,9 @@ bool ZeroPaddingLayer::getMemoryShapes(const std::vector<cv::dnn::MatShape>& inp
 
 void ZeroPaddingLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
                                cv::OutputArrayOfArrays /*internals*/) {
-  std::vector<cv::Mat> inputs, outputs;
-  inputs_arr.getMatVector(inputs);
-  outputs_arr.getMatVector(outputs);
-  const cv::Mat& in = inputs[0];
-  cv::Mat& out = outputs[0];
-  CV_Assert(in.depth() == CV_32F && in.isContinuous() && out.isContinuous());
+  LayerBlobs blobs = blobs_of(inputs_arr, outputs_arr);
+  const cv::Mat& in = blobs.in;
+  cv::Mat& out = blobs.out;
   const int planes = in.size[0] * in.size[1], h = in.size[2], w = in.size[3];
   const int oh = out.size[2], ow = out.size[3];
   const float* src = in.ptr<float>();

@@ -1,6 +1,7 @@
 #pragma once
-// The weights and bias of a layer as OpenCV's importers hand them to a layer constructor
-// (LayerParams::blobs), copied out as flat float arrays for our kernels (own_kernels.h).
+// What our layers (own_kernels.h) take from OpenCV: the weights and bias its importers hand to a
+// layer constructor (LayerParams::blobs), as flat float arrays, and the one input and one output
+// blob of a forward pass.
 #include <opencv2/dnn.hpp>
 
 #include <vector>
@@ -22,6 +23,20 @@ inline std::vector<float> bias_of(const cv::dnn::LayerParams& params, int count)
   const cv::Mat b = params.blobs[1].isContinuous() ? params.blobs[1] : params.blobs[1].clone();
   CV_Assert(b.total() == static_cast<std::size_t>(count) && b.depth() == CV_32F);
   return {b.ptr<float>(), b.ptr<float>() + b.total()};
+}
+
+// The first input and first output of a forward pass: float, continuous (as OpenCV allocates).
+struct LayerBlobs {
+  cv::Mat in, out;
+};
+inline LayerBlobs blobs_of(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr) {
+  std::vector<cv::Mat> inputs, outputs;
+  inputs_arr.getMatVector(inputs);
+  outputs_arr.getMatVector(outputs);
+  CV_Assert(!inputs.empty() && !outputs.empty());
+  LayerBlobs b{inputs[0], outputs[0]};
+  CV_Assert(b.in.depth() == CV_32F && b.in.isContinuous() && b.out.isContinuous());
+  return b;
 }
 
 }  // namespace lrd::segmentation
