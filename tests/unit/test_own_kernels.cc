@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/dnn.hpp>
-
 #include <optional>
 #include <string>
 #include <utility>
@@ -81,7 +80,8 @@ Result run_net(const std::vector<std::pair<std::string, cv::dnn::LayerParams>>& 
   return res;
 }
 
-Result run_layer(const std::string& type, const cv::dnn::LayerParams& params, const cv::Mat& input, bool own) {
+Result run_layer(const std::string& type, const cv::dnn::LayerParams& params, const cv::Mat& input,
+                 bool own) {
   return run_net({{type, params}}, input, own);
 }
 
@@ -146,8 +146,9 @@ TEST(OwnKernels, GroupedConvolutionWithFewInputChannelsMatchesOpenCv) {
   };
   for (const Geometry& g : cases) {
     for (const bool relu : {false, true}) {
-      SCOPED_TRACE(::testing::Message() << g.channels << " groups of " << g.in_per_group << " -> "
-                                        << g.weights_per_group << ", " << g.kh << "x" << g.kw << " relu " << relu);
+      SCOPED_TRACE(::testing::Message()
+                   << g.channels << " groups of " << g.in_per_group << " -> " << g.weights_per_group << ", "
+                   << g.kh << "x" << g.kw << " relu " << relu);
       const cv::Mat x = random_input(2, g.channels * g.in_per_group, 13, 18);
       const Result ours = run(g, true, relu, x, true);
       const Result theirs = run(g, true, relu, x, false);
@@ -163,9 +164,9 @@ TEST(OwnKernels, GroupedConvolutionLeavesTheRestToOpenCv) {
   const cv::Mat x = random_input(1, 8, 9, 9);
   // OpenCV's own 3x3 depthwise path is fast; a depth multiplier of 2 is neither depthwise nor in
   // fours; 1x1 kernels are OpenCV's GEMM; 8 input channels per group are more than a few.
-  for (const Geometry& g : {Geometry{8, 3, 3, 1, 1, 1, 1, 1, 1, 1, 1}, Geometry{8, 5, 5, 1, 1, 1, 1, 2, 2, 2, 2, 2},
-                            Geometry{2, 1, 1, 1, 1, 1, 1, 0, 0, 0, 0, 4, 4},
-                            Geometry{1, 3, 3, 1, 1, 1, 1, 1, 1, 1, 1, 8, 8}}) {
+  for (const Geometry& g :
+       {Geometry{8, 3, 3, 1, 1, 1, 1, 1, 1, 1, 1}, Geometry{8, 5, 5, 1, 1, 1, 1, 2, 2, 2, 2, 2},
+        Geometry{2, 1, 1, 1, 1, 1, 1, 0, 0, 0, 0, 4, 4}, Geometry{1, 3, 3, 1, 1, 1, 1, 1, 1, 1, 1, 8, 8}}) {
     const Result r = run(g, true, false, x, true);
     EXPECT_EQ(r.type, "Convolution");
   }
@@ -197,8 +198,8 @@ TEST(OwnKernels, TransposedConvolutionMatchesOpenCv) {
   };
   for (const Case& c : {Case{16, 1, 2, 2}, Case{4, 3, 2, 3}, Case{5, 2, 4, 4}}) {
     for (const bool sigmoid : {false, true}) {
-      SCOPED_TRACE(::testing::Message() << c.in_c << "->" << c.out_c << " " << c.kh << "x" << c.kw << " sigmoid "
-                                        << sigmoid);
+      SCOPED_TRACE(::testing::Message()
+                   << c.in_c << "->" << c.out_c << " " << c.kh << "x" << c.kw << " sigmoid " << sigmoid);
       const cv::Mat x = random_input(2, c.in_c, 7, 11);
       const Result ours = run_transposed(c.in_c, c.out_c, c.kh, c.kw, sigmoid, x, true);
       const Result theirs = run_transposed(c.in_c, c.out_c, c.kh, c.kw, sigmoid, x, false);
@@ -278,8 +279,8 @@ TEST(OwnKernels, ZeroPaddingMatchesOpenCv) {
   // As OpenCV's ONNX importer writes the pads of a convolution with uneven ones: (before, after)
   // per axis, N and C untouched. Small (one thread) and large (in parallel) tensors.
   for (const cv::Mat& x : {random_input(2, 3, 9, 11), random_input(1, 16, 72, 128)}) {
-    for (const std::vector<int>& pads : {std::vector<int>{0, 0, 0, 0, 0, 1, 0, 1}, {0, 0, 0, 0, 1, 2, 1, 2},
-                                         {0, 0, 0, 0, 3, 0, 0, 2}}) {
+    for (const std::vector<int>& pads :
+         {std::vector<int>{0, 0, 0, 0, 0, 1, 0, 1}, {0, 0, 0, 0, 1, 2, 1, 2}, {0, 0, 0, 0, 3, 0, 0, 2}}) {
       cv::dnn::LayerParams p;
       p.set("paddings", cv::dnn::DictValue::arrayInt(pads.data(), static_cast<int>(pads.size())));
       const Result ours = run_layer("Padding", p, x, true), theirs = run_layer("Padding", p, x, false);

@@ -1,8 +1,7 @@
 #include "lrd/segmentation/fast_activation_layer.h"
 
-#include <opencv2/core/utility.hpp>
-
 #include <algorithm>
+#include <opencv2/core/utility.hpp>
 
 namespace lrd::segmentation {
 

@@ -6,7 +6,6 @@
 // calls forwardSlice on that layer's output. Created through OwnKernelsScope (own_kernels.h).
 #include <opencv2/dnn.hpp>
 #include <opencv2/dnn/all_layers.hpp>
-
 #include <vector>
 
 namespace lrd::segmentation {
@@ -20,7 +19,8 @@ class FastActivationLayer : public cv::dnn::ActivationLayer {
   void forward(cv::InputArrayOfArrays inputs, cv::OutputArrayOfArrays outputs,
                cv::OutputArrayOfArrays internals) override;
   // `len` values of each channel plane cn0..cn1-1, planes `plane_size` apart (OpenCV's contract).
-  void forwardSlice(const float* src, float* dst, int len, size_t plane_size, int cn0, int cn1) const override;
+  void forwardSlice(const float* src, float* dst, int len, size_t plane_size, int cn0,
+                    int cn1) const override;
 
  protected:
   // dst[i] = f(src[i]) for n values; in place allowed.

@@ -1,9 +1,8 @@
 #include "lrd/segmentation/global_average_pooling_layer.h"
 
-#include <opencv2/core/utility.hpp>
-
 #include <algorithm>
 #include <cctype>
+#include <opencv2/core/utility.hpp>
 #include <string>
 
 #include "lrd/segmentation/layer_data.h"
@@ -31,14 +30,16 @@ bool GlobalAveragePoolingLayer::supportBackend(int backend_id) {
 }
 
 bool GlobalAveragePoolingLayer::getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs,
-                                                int /*required_outputs*/, std::vector<cv::dnn::MatShape>& outputs,
+                                                int /*required_outputs*/,
+                                                std::vector<cv::dnn::MatShape>& outputs,
                                                 std::vector<cv::dnn::MatShape>& /*internals*/) const {
   CV_Assert(inputs.size() == 1 && inputs[0].size() == 4);
   outputs.assign(1, cv::dnn::MatShape{inputs[0][0], inputs[0][1], 1, 1});
   return false;
 }
 
-void GlobalAveragePoolingLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
+void GlobalAveragePoolingLayer::forward(cv::InputArrayOfArrays inputs_arr,
+                                        cv::OutputArrayOfArrays outputs_arr,
                                         cv::OutputArrayOfArrays /*internals*/) {
   LayerBlobs blobs = blobs_of(inputs_arr, outputs_arr);
   const cv::Mat& in = blobs.in;

@@ -3,7 +3,6 @@
 // ten squeeze-and-excitation blocks. OpenCV 4.6's pooling layer spends about 13 us on each however
 // small the input; the sums themselves take 1-2 us. Created through OwnKernelsScope (own_kernels.h).
 #include <opencv2/dnn.hpp>
-
 #include <vector>
 
 namespace lrd::segmentation {

@@ -1,9 +1,8 @@
 #include "lrd/segmentation/grouped_convolution_layer.h"
 
+#include <algorithm>
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/core/utility.hpp>
-
-#include <algorithm>
 
 #include "lrd/segmentation/layer_data.h"
 
@@ -186,7 +185,8 @@ bool GroupedConvolutionLayer::handles(const cv::dnn::LayerParams& params,
   if (params.blobs.empty()) return false;  // weights given at run time
   const cv::Mat& w = params.blobs[0];
   if (w.dims != 4 || w.depth() != CV_32F) return false;
-  if (w.size[2] != to_int(geometry.kernel_size[0]) || w.size[3] != to_int(geometry.kernel_size[1])) return false;
+  if (w.size[2] != to_int(geometry.kernel_size[0]) || w.size[3] != to_int(geometry.kernel_size[1]))
+    return false;
   const int groups = params.get<int>("group", 1);
   // Few input channels per group, output channels in fours: the AVX2 kernel (OpenCV's GEMM path is
   // faster than ours without it). 1x1 kernels stay OpenCV's, a GEMM is right for them.
@@ -202,7 +202,8 @@ bool GroupedConvolutionLayer::supportBackend(int backend_id) {
 }
 
 bool GroupedConvolutionLayer::getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs,
-                                              int /*required_outputs*/, std::vector<cv::dnn::MatShape>& outputs,
+                                              int /*required_outputs*/,
+                                              std::vector<cv::dnn::MatShape>& outputs,
                                               std::vector<cv::dnn::MatShape>& /*internals*/) const {
   CV_Assert(inputs.size() == 1 && inputs[0].size() == 4 && inputs[0][1] == in_channels_);
   const int h = inputs[0][2] + pad_top_ + pad_bottom_ - dilation_h_ * (kernel_h_ - 1) - 1;
@@ -277,9 +278,11 @@ void GroupedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::Out
     for (int task = r.start; task < r.end; ++task) {
       const int y = task % g.out_h, b = (task / g.out_h) % blocks, n = task / (g.out_h * blocks);
       const int k = 4 * b;
-      const std::size_t first_plane = static_cast<std::size_t>(n) * in_channels_ + (k / out_per_group) * in_per_group;
+      const std::size_t first_plane =
+          static_cast<std::size_t>(n) * in_channels_ + (k / out_per_group) * in_per_group;
       float* const first_out = dst + (static_cast<std::size_t>(n) * out_channels_ + k) * out_plane;
-      float* const out4[4] = {first_out, first_out + out_plane, first_out + 2 * out_plane, first_out + 3 * out_plane};
+      float* const out4[4] = {first_out, first_out + out_plane, first_out + 2 * out_plane,
+                              first_out + 3 * out_plane};
       convolve_row_x4_avx2(g, padded_.data() + first_plane * g.plane_size, weights_x4_.data() + b * taps * 4,
                            bias_.data() + k, out4, y);
       if (activation_)

@@ -7,7 +7,6 @@
 // four output channels per input load. Created through OwnKernelsScope (own_kernels.h).
 #include <opencv2/dnn.hpp>
 #include <opencv2/dnn/all_layers.hpp>
-
 #include <vector>
 
 namespace lrd::segmentation {

@@ -1,8 +1,7 @@
 #include "lrd/segmentation/hard_swish_layer.h"
 
-#include <opencv2/core/hal/intrin.hpp>
-
 #include <algorithm>
+#include <opencv2/core/hal/intrin.hpp>
 
 namespace lrd::segmentation {
 

@@ -3,7 +3,6 @@
 // layer constructor (LayerParams::blobs), as flat float arrays, and the one input and one output
 // blob of a forward pass.
 #include <opencv2/dnn.hpp>
-
 #include <vector>
 
 namespace lrd::segmentation {

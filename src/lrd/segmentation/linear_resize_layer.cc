@@ -1,9 +1,8 @@
 #include "lrd/segmentation/linear_resize_layer.h"
 
+#include <algorithm>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
-
-#include <algorithm>
 
 #include "lrd/segmentation/layer_data.h"
 
@@ -60,8 +59,8 @@ bool LinearResizeLayer::supportBackend(int backend_id) {
   return backend_id == cv::dnn::DNN_BACKEND_OPENCV;
 }
 
-bool LinearResizeLayer::getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs, int /*required_outputs*/,
-                                        std::vector<cv::dnn::MatShape>& outputs,
+bool LinearResizeLayer::getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs,
+                                        int /*required_outputs*/, std::vector<cv::dnn::MatShape>& outputs,
                                         std::vector<cv::dnn::MatShape>& /*internals*/) const {
   CV_Assert(!inputs.empty() && inputs[0].size() == 4);
   outputs.assign(1, cv::dnn::MatShape{inputs[0][0], inputs[0][1], out_h_, out_w_});

@@ -5,7 +5,6 @@
 // 16-128 channels); ours does the x2 case, all planes in one pass, and any other size with
 // cv::resize per plane as OpenCV does. Created through OwnKernelsScope (own_kernels.h).
 #include <opencv2/dnn.hpp>
-
 #include <vector>
 
 namespace lrd::segmentation {

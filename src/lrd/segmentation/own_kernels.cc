@@ -1,9 +1,8 @@
 #include "lrd/segmentation/own_kernels.h"
 
+#include <mutex>
 #include <opencv2/dnn.hpp>
 #include <opencv2/dnn/all_layers.hpp>
-
-#include <mutex>
 
 #include "lrd/segmentation/global_average_pooling_layer.h"
 #include "lrd/segmentation/grouped_convolution_layer.h"
@@ -45,7 +44,8 @@ cv::Ptr<cv::dnn::Layer> create_hard_swish(cv::dnn::LayerParams& params) {
 }
 
 cv::Ptr<cv::dnn::Layer> create_resize(cv::dnn::LayerParams& params) {
-  if (own_kernels_enabled && LinearResizeLayer::handles(params)) return cv::makePtr<LinearResizeLayer>(params);
+  if (own_kernels_enabled && LinearResizeLayer::handles(params))
+    return cv::makePtr<LinearResizeLayer>(params);
   return cv::dnn::ResizeLayer::create(params);
 }
 

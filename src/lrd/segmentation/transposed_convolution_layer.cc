@@ -1,8 +1,7 @@
 #include "lrd/segmentation/transposed_convolution_layer.h"
 
-#include <opencv2/core/utility.hpp>
-
 #include <algorithm>
+#include <opencv2/core/utility.hpp>
 
 #include "lrd/segmentation/layer_data.h"
 
@@ -31,7 +30,8 @@ bool TransposedConvolutionLayer::handles(const cv::dnn::LayerParams& params,
   for (int d = 0; d < 2; ++d) {
     if (geometry.strides.size() != 2 || geometry.strides[d] != geometry.kernel_size[d]) return false;
     if (static_cast<std::size_t>(w.size[2 + d]) != geometry.kernel_size[d]) return false;
-    if (geometry.pads_begin.size() != 2 || geometry.pads_begin[d] != 0 || geometry.pads_end[d] != 0) return false;
+    if (geometry.pads_begin.size() != 2 || geometry.pads_begin[d] != 0 || geometry.pads_end[d] != 0)
+      return false;
     if (geometry.dilations.size() == 2 && geometry.dilations[d] != 1) return false;
     if (geometry.adjust_pads.size() == 2 && geometry.adjust_pads[d] != 0) return false;
   }
@@ -47,8 +47,8 @@ bool TransposedConvolutionLayer::getMemoryShapes(const std::vector<cv::dnn::MatS
                                                  std::vector<cv::dnn::MatShape>& outputs,
                                                  std::vector<cv::dnn::MatShape>& /*internals*/) const {
   CV_Assert(inputs.size() == 1 && inputs[0].size() == 4 && inputs[0][1] == in_channels_);
-  outputs.assign(1, cv::dnn::MatShape{inputs[0][0], out_channels_, inputs[0][2] * kernel_h_,
-                                      inputs[0][3] * kernel_w_});
+  outputs.assign(
+      1, cv::dnn::MatShape{inputs[0][0], out_channels_, inputs[0][2] * kernel_h_, inputs[0][3] * kernel_w_});
   return false;
 }
 
@@ -57,7 +57,8 @@ bool TransposedConvolutionLayer::setActivation(const cv::Ptr<cv::dnn::Activation
   return !activation_.empty();
 }
 
-void TransposedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
+void TransposedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr,
+                                         cv::OutputArrayOfArrays outputs_arr,
                                          cv::OutputArrayOfArrays /*internals*/) {
   LayerBlobs blobs = blobs_of(inputs_arr, outputs_arr);
   const cv::Mat& in = blobs.in;
@@ -83,7 +84,8 @@ void TransposedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::
         std::fill(sums.begin(), sums.end(), bias_[static_cast<std::size_t>(k)]);
         for (int c = 0; c < in_channels_; ++c) {
           const float* __restrict row = image + c * in_plane + static_cast<std::size_t>(y) * w;
-          const float* wk = weights_.data() + (static_cast<std::size_t>(c) * out_channels_ + k) * taps + a * kernel_w_;
+          const float* wk =
+              weights_.data() + (static_cast<std::size_t>(c) * out_channels_ + k) * taps + a * kernel_w_;
           for (int b = 0; b < kernel_w_; ++b) {
             float* __restrict s = sums.data() + static_cast<std::size_t>(b) * w;
             const float wb = wk[b];
@@ -92,7 +94,8 @@ void TransposedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::
         }
         float* o = plane + static_cast<std::size_t>(y * kernel_h_ + a) * out_w;
         for (int x = 0; x < w; ++x)
-          for (int b = 0; b < kernel_w_; ++b) o[x * kernel_w_ + b] = sums[static_cast<std::size_t>(b) * w + x];
+          for (int b = 0; b < kernel_w_; ++b)
+            o[x * kernel_w_ + b] = sums[static_cast<std::size_t>(b) * w + x];
       }
       // The activation on this task's rows, still in cache (forwardSlice takes any run of a plane).
       if (activation_) {

@@ -6,7 +6,6 @@
 // (own_kernels.h).
 #include <opencv2/dnn.hpp>
 #include <opencv2/dnn/all_layers.hpp>
-
 #include <vector>
 
 namespace lrd::segmentation {
@@ -15,7 +14,8 @@ class TransposedConvolutionLayer : public cv::dnn::Layer {
  public:
   // `params` as OpenCV's importers fill them for a "Deconvolution" layer (weights in_channels x
   // out_channels x kernel_h x kernel_w); `geometry` is OpenCV's own parse of them.
-  TransposedConvolutionLayer(const cv::dnn::LayerParams& params, const cv::dnn::BaseConvolutionLayer& geometry);
+  TransposedConvolutionLayer(const cv::dnn::LayerParams& params,
+                             const cv::dnn::BaseConvolutionLayer& geometry);
 
   // True for a 2-D transposed convolution of one group, weights in the model, kernel == stride,
   // no pads, no output padding, no dilation.

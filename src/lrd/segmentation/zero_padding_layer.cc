@@ -1,8 +1,7 @@
 #include "lrd/segmentation/zero_padding_layer.h"
 
-#include <opencv2/core/utility.hpp>
-
 #include <algorithm>
+#include <opencv2/core/utility.hpp>
 #include <string>
 
 #include "lrd/segmentation/layer_data.h"

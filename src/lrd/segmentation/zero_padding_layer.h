@@ -4,7 +4,6 @@
 // four in selfie-landscape), and its generic layer took 0.03-0.1 ms each for a plain copy.
 // Created through OwnKernelsScope (own_kernels.h).
 #include <opencv2/dnn.hpp>
-
 #include <vector>
 
 namespace lrd::segmentation {
