@@ -23,8 +23,8 @@
 
 #include "bench/yardstick.h"
 #include "lrd/segmentation/onnx_presets.h"
-#include "lrd/segmentation/own_kernels.h"
 #include "lrd/segmentation/onnx_segmenter.h"
+#include "lrd/segmentation/own_kernels.h"
 #include "lrd/synth/synthetic_sequence.h"
 #include "lrd/util/error.h"
 #include "lrd/util/project_files.h"
@@ -33,12 +33,12 @@ namespace {
 
 struct Row {
   std::string preset, input, note;
-  double ms = 0.0;          // the whole OnnxSegmenter::segment call
-  double network_ms = 0.0;  // the network alone: setInput + forward on a ready blob
+  double ms = 0.0;                 // the whole OnnxSegmenter::segment call
+  double network_ms = 0.0;         // the network alone: setInput + forward on a ready blob
   double opencv_network_ms = 0.0;  // the same with OpenCV's layers only (no own kernels)
-  double y_ms = 0.0;        // the yardstick, timed frame by frame between this preset's runs
-  double photo_ms = 0.0;    // the whole call on real photographs (when there are any)
-  double photo_y_ms = 0.0;  // the yardstick on those photographs, timed between them
+  double y_ms = 0.0;               // the yardstick, timed frame by frame between this preset's runs
+  double photo_ms = 0.0;           // the whole call on real photographs (when there are any)
+  double photo_y_ms = 0.0;         // the yardstick on those photographs, timed between them
   std::optional<double> target_y;
 };
 
@@ -185,12 +185,14 @@ int main(int argc, char** argv) {
       "{} frames of synthetic walking_xyz; medians of the network alone (OpenCV DNN `forward` on a "
       "ready blob) and of the whole `OnnxSegmenter::segment` call (resize, normalisation, network, "
       "post-processing to a full-size mask); the network with our kernels where OpenCV 4.6 is slow "
-      "(`segmentation.onnx.own_kernels`, the default) and with OpenCV's layers only. Y = {:.2f} ms overall: median `cv::ORB` detectAndCompute on "
+      "(`segmentation.onnx.own_kernels`, the default) and with OpenCV's layers only. Y = {:.2f} ms "
+      "overall: median `cv::ORB` detectAndCompute on "
       "the same frames, timed frame by frame between each preset's runs; each row's ratios use the Y "
       "timed beside it (column Y). Targets are judged on the network alone for `fnet` (issue 6: "
       "\"ms per frame in OpenCV DNN\") and on the whole call for `selfie-landscape` (issue 8: \"time per "
       "frame of each preset\").\n\n"
-      "| preset | input | Y ms | network ms | × Y | OpenCV layers only ms | × Y | whole call ms | × Y | target |\n"
+      "| preset | input | Y ms | network ms | × Y | OpenCV layers only ms | × Y | whole call ms | × Y | "
+      "target |\n"
       "|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n",
       bgr.size(), y);
   for (const Row& r : rows) {
@@ -203,8 +205,8 @@ int main(int argc, char** argv) {
                                                         r.preset == "fnet" ? "network" : "whole call",
                                                         judged <= *r.target_y ? "met" : "NOT met")
                                           : "";
-    md += fmt::format("| {} | {} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {} |\n", r.preset,
-                      r.input, r.y_ms, r.network_ms, r.network_ms / r.y_ms, r.opencv_network_ms,
+    md += fmt::format("| {} | {} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {} |\n",
+                      r.preset, r.input, r.y_ms, r.network_ms, r.network_ms / r.y_ms, r.opencv_network_ms,
                       r.opencv_network_ms / r.y_ms, r.ms, r.ms / r.y_ms, target);
   }
   if (!photos.empty()) {
