@@ -25,17 +25,22 @@ lrd::segmentation::OnnxParams fnet_params() {
   return p.onnx;
 }
 
+// `frames` frames of a synthetic preset, seed 1.
+lrd::synth::SyntheticSequence rendered(const char* preset, int frames) {
+  lrd::synth::SynthOptions o;
+  o.preset = preset;
+  o.seed = 1;
+  o.frames = frames;
+  return lrd::synth::SyntheticSequence(o);
+}
+
 TEST(FnetModel, PersonIouOnHeldOutSyntheticFrames) {
   if (!fs::exists(kModel)) GTEST_SKIP() << kModel << " has not shipped yet";
   lrd::segmentation::OnnxSegmenter net(fnet_params());
 
   std::size_t intersection = 0, union_ = 0, dynamic_hits = 0, dynamic_truth = 0;
   for (const char* preset : {"walking_xyz", "sitting_halfsphere", "walking_pushed"}) {
-    lrd::synth::SynthOptions o;
-    o.preset = preset;
-    o.seed = 1;
-    o.frames = 200;
-    const lrd::synth::SyntheticSequence seq(o);
+    const lrd::synth::SyntheticSequence seq = rendered(preset, 200);
     for (int i = 10; i < seq.size(); i += 40) {
       const lrd::synth::SynthFrame f = seq.render(i);
       const cv::Mat labels = net.labels(f.rgb, /*rgb_order=*/false);
@@ -67,11 +72,7 @@ TEST(FnetModel, DynamicMaskAgreesWithTheLabels) {
   if (!fs::exists(kModel)) GTEST_SKIP() << kModel << " has not shipped yet";
   const lrd::segmentation::OnnxParams params = fnet_params();
   lrd::segmentation::OnnxSegmenter net(params);
-  lrd::synth::SynthOptions o;
-  o.preset = "walking_xyz";
-  o.seed = 1;
-  o.frames = 120;
-  const lrd::synth::SyntheticSequence seq(o);
+  const lrd::synth::SyntheticSequence seq = rendered("walking_xyz", 120);
   std::size_t differ = 0, total = 0, person = 0;
   for (int i = 0; i < seq.size(); i += 30) {
     const lrd::synth::SynthFrame f = seq.render(i);
@@ -101,11 +102,7 @@ TEST(FnetModel, OwnKernelsGiveOpenCvsLogits) {
   lrd::segmentation::OnnxSegmenter ours(params);
   params.own_kernels = false;
   lrd::segmentation::OnnxSegmenter opencv(params);
-  lrd::synth::SynthOptions o;
-  o.preset = "walking_xyz";
-  o.seed = 1;
-  o.frames = 60;
-  const lrd::synth::SyntheticSequence seq(o);
+  const lrd::synth::SyntheticSequence seq = rendered("walking_xyz", 60);
   for (int i = 0; i < seq.size(); i += 30) {
     const lrd::synth::SynthFrame f = seq.render(i);
     const cv::Mat a = ours.forward(f.rgb, false), b = opencv.forward(f.rgb, false);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/dnn/shape_utils.hpp>
 
 #include "lrd/segmentation/layer_data.h"
 
@@ -21,14 +22,7 @@ namespace {
 // taps (input channels of the group x kernel rows x kernel columns): the first version looped over
 // x once per tap, 4 vectors long on selfie's 16-wide maps, and spent more on the loops' set-up than
 // on the work (2.7 GMAC/s; this is 4x that).
-struct Layout {
-  int in_h, in_w, out_h, out_w;
-  int sh, sw, pt, pl;
-  int phase_len;            // floats in one phase row
-  std::size_t row_stride;   // floats in one padded row (all its phases)
-  std::size_t plane_size;   // floats in one padded plane
-  std::vector<int> tap_at;  // per tap (channel, i, j): offset from output row 0's first input
-};
+using Layout = GroupedConvolutionLayer::PlaneLayout;
 
 void pad_plane(const Layout& g, const float* in, float* plane) {
   // Zeros only where no input lands: the rows above and below, and each row's ends.
@@ -218,17 +212,21 @@ bool GroupedConvolutionLayer::setActivation(const cv::Ptr<cv::dnn::ActivationLay
   return !activation_.empty();
 }
 
-void GroupedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
-                                      cv::OutputArrayOfArrays /*internals*/) {
-  LayerBlobs blobs = blobs_of(inputs_arr, outputs_arr);
-  const cv::Mat& in = blobs.in;
-  cv::Mat& out = blobs.out;
-  CV_Assert(in.size[1] == in_channels_);
-  Layout g{};
-  g.in_h = in.size[2];
-  g.in_w = in.size[3];
-  g.out_h = out.size[2];
-  g.out_w = out.size[3];
+void GroupedConvolutionLayer::finalize(cv::InputArrayOfArrays inputs_arr,
+                                       cv::OutputArrayOfArrays outputs_arr) {
+  std::vector<cv::Mat> inputs, outputs;
+  inputs_arr.getMatVector(inputs);
+  outputs_arr.getMatVector(outputs);
+  if (!inputs.empty() && !outputs.empty()) plan(cv::dnn::shape(inputs[0]), cv::dnn::shape(outputs[0]));
+}
+
+void GroupedConvolutionLayer::plan(const cv::dnn::MatShape& in, const cv::dnn::MatShape& out) {
+  CV_Assert(in.size() == 4 && out.size() == 4);
+  Layout g;
+  g.in_h = in[2];
+  g.in_w = in[3];
+  g.out_h = out[2];
+  g.out_w = out[3];
   g.sh = stride_h_, g.sw = stride_w_, g.pt = pad_top_, g.pl = pad_left_;
   const int padded_h =
       std::max(g.in_h + pad_top_ + pad_bottom_, (g.out_h - 1) * g.sh + (kernel_h_ - 1) * dilation_h_ + 1);
@@ -237,19 +235,31 @@ void GroupedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::Out
   g.phase_len = (padded_w + g.sw - 1) / g.sw;
   g.row_stride = static_cast<std::size_t>(g.sw) * g.phase_len;
   g.plane_size = padded_h * g.row_stride;
-  const int in_per_group = in_channels_ / groups_, out_per_group = out_channels_ / groups_;
-  for (int c = 0; c < in_per_group; ++c)
+  for (int c = 0; c < in_channels_ / groups_; ++c)
     for (int i = 0; i < kernel_h_; ++i)
       for (int j = 0; j < kernel_w_; ++j) {
         const int column = j * dilation_w_;
         g.tap_at.push_back(to_int(c * g.plane_size) + (i * dilation_h_ * g.sw + column % g.sw) * g.phase_len +
                            column / g.sw);
       }
+  layout_ = std::move(g);
+  padded_.resize(static_cast<std::size_t>(in[0]) * in_channels_ * layout_.plane_size);
+}
 
+void GroupedConvolutionLayer::forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
+                                      cv::OutputArrayOfArrays /*internals*/) {
+  LayerBlobs blobs = blobs_of(inputs_arr, outputs_arr);
+  const cv::Mat& in = blobs.in;
+  cv::Mat& out = blobs.out;
+  CV_Assert(in.size[1] == in_channels_);
+  if (in.size[2] != layout_.in_h || in.size[3] != layout_.in_w ||
+      in.size[0] * in_channels_ * layout_.plane_size != padded_.size())
+    plan(cv::dnn::shape(in), cv::dnn::shape(out));  // not finalized for these shapes
+  const Layout& g = layout_;
+  const int in_per_group = in_channels_ / groups_, out_per_group = out_channels_ / groups_;
   const int batch = in.size[0];
   const std::size_t in_plane = static_cast<std::size_t>(g.in_h) * g.in_w;
   const std::size_t out_plane = static_cast<std::size_t>(g.out_h) * g.out_w;
-  padded_.resize(static_cast<std::size_t>(batch) * in_channels_ * g.plane_size);
   const float* src = in.ptr<float>();
   float* dst = out.ptr<float>();
   const std::size_t taps = g.tap_at.size();

@@ -30,10 +30,24 @@ class GroupedConvolutionLayer : public cv::dnn::Layer {
                        std::vector<cv::dnn::MatShape>& internals) const override;
   // A following activation (ReLU, hard-swish, ...) runs on each output plane while it is in cache.
   bool setActivation(const cv::Ptr<cv::dnn::ActivationLayer>& layer) override;
+  // Plans the padded planes and the kernel taps for the shapes OpenCV settled on: once, not per frame.
+  void finalize(cv::InputArrayOfArrays inputs, cv::OutputArrayOfArrays outputs) override;
   void forward(cv::InputArrayOfArrays inputs, cv::OutputArrayOfArrays outputs,
                cv::OutputArrayOfArrays internals) override;
 
+  // Each padded input plane stored as stride_w column phases (see the .cc).
+  struct PlaneLayout {
+    int in_h = 0, in_w = 0, out_h = 0, out_w = 0;
+    int sh = 1, sw = 1, pt = 0, pl = 0;
+    int phase_len = 0;           // floats in one phase row
+    std::size_t row_stride = 0;  // floats in one padded row (all its phases)
+    std::size_t plane_size = 0;  // floats in one padded plane
+    std::vector<int> tap_at;     // per tap (channel, i, j): offset from output row 0's first input
+  };
+
  private:
+  void plan(const cv::dnn::MatShape& in, const cv::dnn::MatShape& out);
+
   int in_channels_ = 0, out_channels_ = 0, groups_ = 1;
   int kernel_h_ = 0, kernel_w_ = 0, stride_h_ = 1, stride_w_ = 1, dilation_h_ = 1, dilation_w_ = 1;
   int pad_top_ = 0, pad_left_ = 0, pad_bottom_ = 0, pad_right_ = 0;
@@ -41,7 +55,8 @@ class GroupedConvolutionLayer : public cv::dnn::Layer {
   std::vector<float> bias_;     // out_channels
   cv::Ptr<cv::dnn::ActivationLayer> activation_;
   std::vector<float> weights_x4_;  // the AVX2 kernel's: output channels in fours, interleaved per tap
-  std::vector<float> padded_;      // the padded input planes, in stride phases (see the .cc)
+  PlaneLayout layout_;
+  std::vector<float> padded_;  // the padded input planes, in stride phases
 };
 
 }  // namespace lrd::segmentation
