@@ -18,42 +18,19 @@
 #include "lrd/config/config.h"
 #include "lrd/dense/dense_mapper.h"
 #include "lrd/dynamic/dynamic_params.h"
+#include "lrd/events/event_publisher.h"
+#include "lrd/events/map_snapshot.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/loop/loop_closer.h"
 #include "lrd/segmentation/segmentation_params.h"
+#include "lrd/system_params.h"
 #include "lrd/tracking/tracking_state.h"
 
 namespace lrd {
 
 using tracking::TrackingState;
 
-struct SystemOptions {
-  // Local mapping in lock-step after each keyframe, in the tracking thread: two runs over the same
-  // input give bit-identical trajectories (slower: tracking waits for mapping).
-  // Forces the segmentation schedule to sync (the async one depends on thread timing).
-  bool deterministic = false;
-  // Replace what the config's `dynamic` / `segmentation` sections say (the CLI's --mode and
-  // --segmenter).
-  std::optional<dynamic::DynamicMode> mode;
-  std::optional<segmentation::SegmentationParams> segmentation;
-  // Replaces the config's dense.enabled (the CLI's --dense): background repair and the dense map.
-  std::optional<bool> dense;
-  // Replaces the config's loop_closing.enabled (the CLI's --no-loop-closing) and vocabulary.
-  std::optional<bool> loop_closing;
-  std::optional<std::filesystem::path> vocabulary;
-};
-
-// Where the time of one frame went, in seconds.
-struct FrameTiming {
-  double extraction = 0.0;    // colour conversion, ORB extraction, undistortion, grid
-  double segmentation = 0.0;  // the network on the mask used (its own thread: not in total())
-  double mask_wait = 0.0;     // tracking waiting for the mask, and carrying an older one over
-  double geometry = 0.0;      // multi-view geometry check and region growing
-  double tracking = 0.0;      // pose estimation, local map, keyframe decision
-  double waiting = 0.0;       // waiting for local mapping to release the map
-  double mapping = 0.0;       // lock-step local mapping (deterministic mode only)
-  [[nodiscard]] double total() const { return extraction + mask_wait + geometry + tracking + waiting + mapping; }
-};
+using events::FrameTiming;
 
 // What the dynamic-scene stages did with one frame.
 struct DynamicInfo {
@@ -85,7 +62,11 @@ struct MapStats {
 
 class System {
  public:
+  // Reads every module's parameters from `config` (SystemParams::from_config) with `options`'
+  // overrides, loads the vocabulary and starts the threads.
   explicit System(const config::Config& config, SystemOptions options = {});
+  // With parameters already read (the overrides in `options` are not applied again).
+  System(const config::Config& config, SystemParams params, SystemOptions options);
   ~System();
   System(const System&) = delete;
   System& operator=(const System&) = delete;
@@ -96,9 +77,20 @@ class System {
   // of the wrong type or size; timestamps must increase.
   TrackResult track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double timestamp, const cv::Mat& mask = {});
 
-  // Finishes local mapping (and the dense map) on the queued keyframes and stops their threads.
-  // Idempotent; called by the destructor. Throws the dense thread's error, if it met one.
+  // Finishes local mapping, loop closing and the dense map on the queued keyframes, delivers the
+  // queued events and joins every thread. Idempotent; called by the destructor. Throws the first
+  // error any worker thread met, as an lrd::Error naming the thread (so does track_rgbd).
   void shutdown();
+  // Starts a new map in the same process: the threads of the current one finish and stop, a new
+  // map begins with the next frame (frame ids continue; the trajectory is the new map's).
+  void reset();
+
+  // --- publishers (events/events.h). Register before the first frame; events are delivered on
+  // the publisher's own thread, in order, and never make tracking wait.
+  void subscribe(std::shared_ptr<events::Subscriber> subscriber);
+  [[nodiscard]] events::PublisherStats publisher_stats() const;
+  // Thread-safe copies of the map now: keyframe poses and map points with their keyframes.
+  [[nodiscard]] events::MapSnapshot map_snapshot() const;
 
   // Camera-to-world poses of every tracked frame (lost frames left out), computed from their
   // reference keyframes' current poses.

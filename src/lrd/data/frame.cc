@@ -57,7 +57,10 @@ void Frame::remove_keypoints(const std::vector<bool>& drop) {
   if (drop.size() != n) throw Error("frame: remove_keypoints needs one flag per keypoint");
   std::size_t kept = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (drop[i]) continue;
+    if (drop[i]) {
+      removed_keypoints.push_back(keypoints_[i]);
+      continue;
+    }
     if (kept != i) {
       keypoints_[kept] = keypoints_[i];
       undistorted_[kept] = undistorted_[i];

@@ -78,6 +78,9 @@ class Frame {
   // Pixels judged dynamic (CV_8UC1, nonzero; empty: none): the segmentation mask and the
   // geometric check's regions. Kept with keyframes for mapping, loop closing and the dense map.
   cv::Mat dynamic_mask;
+  // Keypoints remove_keypoints() took out (as detected), for viewers: what the dynamic checks
+  // removed after extraction (those under the segmentation mask are never extracted).
+  std::vector<cv::KeyPoint> removed_keypoints;
 
   // Bag-of-words of the descriptors (relocalization, loop closing); empty until compute_bow().
   // bow_features groups keypoints by vocabulary node kBowLevelsUp levels above the words, the

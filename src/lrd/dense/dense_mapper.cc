@@ -94,6 +94,7 @@ void DenseMapper::run() {
       process(std::move(p));
     } catch (...) {
       // Kept for shutdown() to rethrow in the caller's thread; nothing more is processed.
+      if (errors_ != nullptr) errors_->capture("dense mapping");
       lock.lock();
       error_ = std::current_exception();
       queue_.clear();
@@ -154,14 +155,18 @@ void DenseMapper::process(Pending p) {
     std::lock_guard lock(mutex_);
     for (std::size_t j = 0; j < back.size(); ++j) stored_[stored_.size() - back[j]].votes.swap(updated[j]);
   }
+  std::size_t keyframes = 0;
   {
     std::lock_guard lock(mutex_);
     stored_.push_back({p.kf, std::move(local), std::move(votes)});
+    keyframes = stored_.size();
   }
+  const double timestamp = p.kf->timestamp();
   // The sources are the original images (a repaired pixel is another keyframe's, not a new view).
   recent_.push_back(std::move(p));
   const auto keep = static_cast<std::size_t>(std::max(params_.repair.keyframes, params_.free_space.keyframes));
   while (recent_.size() > keep) recent_.pop_front();
+  if (on_update_) on_update_(timestamp, keyframes);
 }
 
 PointCloud DenseMapper::keyframe_cloud(const RgbdView& view, const cv::Mat& exclude) const {

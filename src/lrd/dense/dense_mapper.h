@@ -17,6 +17,7 @@
 #include "lrd/dense/background_repairer.h"
 #include "lrd/dense/dense_params.h"
 #include "lrd/dense/point_cloud.h"
+#include "lrd/util/thread_errors.h"
 
 namespace lrd::map {
 class KeyFrame;
@@ -46,6 +47,11 @@ class DenseMapper {
   DenseMapper& operator=(const DenseMapper&) = delete;
 
   void set_repair_callback(RepairCallback cb) { on_repair_ = std::move(cb); }
+  // Called in the dense thread after each keyframe is in the map (its timestamp, keyframes so far).
+  using UpdateCallback = std::function<void(double timestamp, std::size_t keyframes)>;
+  void set_update_callback(UpdateCallback cb) { on_update_ = std::move(cb); }
+  // The dense thread's error also goes here (besides shutdown()'s rethrow). Set before use.
+  void set_error_sink(util::ThreadErrors* errors) { errors_ = errors; }
 
   // Queues a new keyframe. bgr: CV_8UC3 BGR; depth: CV_32F metres; dynamic: CV_8UC1 or empty.
   // The images must not be written to afterwards (the caller hands over its copies).
@@ -82,6 +88,8 @@ class DenseMapper {
   camera::PinholeCamera coarse_camera_;
   DenseParams params_;
   BackgroundRepairer repairer_;
+  UpdateCallback on_update_;
+  util::ThreadErrors* errors_ = nullptr;
   RepairCallback on_repair_;
 
   // Lock order: mutex_ is never held while taking the map mutex, so neither waits on the other.

@@ -63,7 +63,11 @@ LoopCloser::LoopCloser(map::Map& map, place::KeyFrameDatabase& database, mapping
 }
 
 LoopCloser::~LoopCloser() {
-  shutdown();
+  try {
+    shutdown();
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+  }
 }
 
 void LoopCloser::insert_keyframe(map::KeyFrame* kf) {
@@ -83,6 +87,7 @@ void LoopCloser::shutdown() {
   }
   // A running global BA finishes: the saved trajectory should have it.
   if (global_ba_thread_.joinable()) global_ba_thread_.join();
+  own_errors_.rethrow();
 }
 
 LoopCloserStats LoopCloser::stats() const {
@@ -91,7 +96,11 @@ LoopCloserStats LoopCloser::stats() const {
 }
 
 void LoopCloser::run() {
-  while (const auto kf = queue_.wait_pop()) process(*kf);
+  try {
+    while (const auto kf = queue_.wait_pop()) process(*kf);
+  } catch (...) {
+    errors_->capture("loop closing");
+  }
 }
 
 void LoopCloser::process(map::KeyFrame* kf) {
@@ -108,11 +117,12 @@ void LoopCloser::process(map::KeyFrame* kf) {
         event = correct_loop(*loop);
         detector_.loop_closed(kf);
       }
-    } catch (const std::exception& e) {
-      // Never out of this thread (std::terminate) nor into tracking's frame: the map keeps what
-      // was corrected so far, and local BA learns that it changed.
-      spdlog::error("loop closing at keyframe {}: {}", kf->id(), e.what());
+    } catch (...) {
+      // Never out of this thread (std::terminate): the map keeps what was corrected so far,
+      // local BA learns that it changed, and the run ends with this error.
       map_.notify_big_change();
+      kf->set_not_erase(false);
+      throw;
     }
     if (kf->loop_edges().empty()) kf->set_not_erase(false);
   }
@@ -125,6 +135,7 @@ void LoopCloser::process(map::KeyFrame* kf) {
     spdlog::info("loop closed: frame {} (keyframe {}) matches keyframe {} with {} inliers; moved {:.3f} m",
                  event->frame_id, event->keyframe_id, event->loop_keyframe_id, event->inliers,
                  event->correction_m);
+    if (loop_callback_) loop_callback_(*event);
     if (params_.global_ba) start_global_ba(event->keyframe_id);
   }
 }
@@ -279,7 +290,13 @@ void LoopCloser::start_global_ba(std::uint64_t run) {
     return;
   }
   abort_global_ba_.store(false);
-  global_ba_thread_ = std::thread([this, run] { run_global_ba(run); });
+  global_ba_thread_ = std::thread([this, run] {
+    try {
+      run_global_ba(run);
+    } catch (...) {
+      errors_->capture("global BA");
+    }
+  });
 }
 
 void LoopCloser::stop_global_ba() {

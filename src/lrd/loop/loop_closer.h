@@ -15,12 +15,14 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <thread>
 #include <vector>
 
 #include "lrd/config/node_reader.h"
 #include "lrd/loop/loop_detector.h"
+#include "lrd/util/thread_errors.h"
 #include "lrd/util/work_queue.h"
 
 namespace lrd::map {
@@ -75,6 +77,12 @@ class LoopCloser {
   LoopCloser(const LoopCloser&) = delete;
   LoopCloser& operator=(const LoopCloser&) = delete;
 
+  // Where the threads' errors go (loop closing and global BA stop at the first); without a sink,
+  // shutdown() rethrows it. Set before the first keyframe.
+  void set_error_sink(util::ThreadErrors* errors) { errors_ = errors; }
+  // Called in the loop-closing thread after each loop correction (map mutex not held).
+  using LoopCallback = std::function<void(const LoopEvent&)>;
+  void set_loop_callback(LoopCallback callback) { loop_callback_ = std::move(callback); }
   // From local mapping (any thread; the map mutex must not be held).
   void insert_keyframe(map::KeyFrame* kf);
   // Lock-step mode: processes what is queued now (and runs global BA to the end).
@@ -98,6 +106,9 @@ class LoopCloser {
   const bool threaded_;
   LoopDetector detector_;  // this thread only
 
+  util::ThreadErrors own_errors_;
+  util::ThreadErrors* errors_ = &own_errors_;
+  LoopCallback loop_callback_;
   util::WorkQueue<map::KeyFrame*> queue_;
 
   mutable std::mutex stats_mutex_;

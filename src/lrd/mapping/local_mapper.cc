@@ -46,7 +46,13 @@ LocalMapper::LocalMapper(map::Map& map, LocalMapperParams params, bool threaded)
   if (threaded_) thread_ = std::thread([this] { run(); });
 }
 
-LocalMapper::~LocalMapper() { shutdown(); }
+LocalMapper::~LocalMapper() {
+  try {
+    shutdown();
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+  }
+}
 
 void LocalMapper::insert_keyframe(map::KeyFrame* kf) {
   queue_.push(kf);
@@ -66,6 +72,7 @@ void LocalMapper::shutdown() {
   }
   queue_.stop();
   if (thread_.joinable()) thread_.join();
+  own_errors_.rethrow();
 }
 
 LocalMapperStats LocalMapper::stats() const {
@@ -75,8 +82,13 @@ LocalMapperStats LocalMapper::stats() const {
 
 void LocalMapper::run() {
   // Busy from the moment a keyframe leaves the queue (tracking asks before proposing another).
-  while (const auto kf = queue_.wait_pop([this] { accepting_.store(false); })) {
-    process(*kf);
+  try {
+    while (const auto kf = queue_.wait_pop([this] { accepting_.store(false); })) {
+      process(*kf);
+      accepting_.store(true);
+    }
+  } catch (...) {
+    errors_->capture("local mapping");
     accepting_.store(true);
   }
 }

@@ -17,6 +17,7 @@
 #include "lrd/config/node_reader.h"
 #include "lrd/match/orb_matcher.h"
 #include "lrd/optim/local_bundle_adjuster.h"
+#include "lrd/util/thread_errors.h"
 #include "lrd/util/work_queue.h"
 
 namespace lrd::map {
@@ -73,6 +74,9 @@ class LocalMapper {
   // in the map: loop closing takes it from there. Set before the first keyframe.
   using KeyFrameCallback = std::function<void(map::KeyFrame*)>;
   void set_keyframe_callback(KeyFrameCallback callback) { keyframe_callback_ = std::move(callback); }
+  // Where the thread's error goes (it stops at the first); without a sink, shutdown() rethrows it.
+  // Set before the first keyframe.
+  void set_error_sink(util::ThreadErrors* errors) { errors_ = errors; }
   // Called by tracking (which may hold the map mutex: only the queue's own lock is taken).
   void insert_keyframe(map::KeyFrame* kf);
   // Idle and ready for a keyframe (ORB-SLAM2's AcceptKeyFrames).
@@ -107,6 +111,8 @@ class LocalMapper {
   KeyFrameCallback keyframe_callback_;
   std::list<map::MapPoint*> recent_points_;  // this thread only
 
+  util::ThreadErrors own_errors_;
+  util::ThreadErrors* errors_ = &own_errors_;
   util::WorkQueue<map::KeyFrame*> queue_;
   std::atomic<bool> accepting_{true};
   std::atomic<bool> abort_ba_{false};

@@ -7,6 +7,7 @@
 #include "lrd/features/descriptor_distance.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map_point.h"
+#include "lrd/match/frustum.h"
 #include "lrd/match/rotation_histogram.h"
 
 namespace lrd::match {
@@ -18,10 +19,6 @@ namespace {
 bool already_matched(const data::Frame& f, std::size_t i) {
   const map::MapPoint* mp = f.map_points[i];
   return mp != nullptr && mp->num_observations() > 0;
-}
-
-float log_scale(const data::Frame& f) {
-  return f.scale_factors().size() > 1 ? std::log(f.scale_factors()[1]) : 1.0f;
 }
 
 }  // namespace
@@ -117,10 +114,6 @@ int OrbMatcher::search_by_projection(const map::KeyFrame& kf, const Eigen::Isome
                                      const std::vector<map::MapPoint*>& points, std::vector<map::MapPoint*>& matched,
                                      float th) const {
   const data::Frame& f = kf.features();
-  const camera::PinholeCamera& cam = f.camera();
-  const Eigen::Vector3d center = T_cw.inverse().translation();
-  const float log_sf = log_scale(f);
-  const int levels = static_cast<int>(f.scale_factors().size());
   std::vector<map::MapPoint*> already;
   for (map::MapPoint* mp : matched)
     if (mp != nullptr) already.push_back(mp);
@@ -128,15 +121,10 @@ int OrbMatcher::search_by_projection(const map::KeyFrame& kf, const Eigen::Isome
   int found = 0;
   for (map::MapPoint* mp : points) {
     if (mp == nullptr || mp->is_bad() || std::binary_search(already.begin(), already.end(), mp)) continue;
-    const Eigen::Vector3d pc = T_cw * mp->position();
-    if (pc.z() <= 0.0) continue;
-    const Eigen::Vector2d uv = cam.project(pc);
-    if (!f.in_bounds(uv.x(), uv.y())) continue;
-    const Eigen::Vector3d po = mp->position() - center;
-    const float dist = static_cast<float>(po.norm());
-    if (dist < mp->min_distance_invariance() || dist > mp->max_distance_invariance()) continue;
-    if (po.dot(mp->normal()) < 0.5 * dist) continue;
-    const int level = mp->predict_scale(dist, log_sf, levels);
+    const auto seen = project_in_frustum(f, T_cw, *mp);
+    if (!seen) continue;
+    const Eigen::Vector2d& uv = seen->pixel;
+    const int level = seen->level;
     const float radius = th * f.scale_factors()[static_cast<std::size_t>(level)];
     int best = 256;
     std::size_t best_idx = SIZE_MAX;
@@ -267,21 +255,14 @@ int OrbMatcher::fuse(map::KeyFrame& kf, const std::vector<map::MapPoint*>& point
   const data::Frame& f = kf.features();
   const camera::PinholeCamera& cam = f.camera();
   const Eigen::Isometry3d T_cw = kf.T_cw();
-  const Eigen::Vector3d center = kf.camera_center();
-  const float log_sf = log_scale(f);
-  const int levels = static_cast<int>(f.scale_factors().size());
   int fused = 0;
   for (map::MapPoint* mp : points) {
     if (mp == nullptr || mp->is_bad() || mp->is_in_keyframe(&kf)) continue;
-    const Eigen::Vector3d pc = T_cw * mp->position();
-    if (pc.z() <= 0.0) continue;
-    const Eigen::Vector2d uv = cam.project(pc);
-    if (!f.in_bounds(uv.x(), uv.y())) continue;
-    const Eigen::Vector3d po = mp->position() - center;
-    const float dist = static_cast<float>(po.norm());
-    if (dist < mp->min_distance_invariance() || dist > mp->max_distance_invariance()) continue;
-    if (po.dot(mp->normal()) < 0.5 * dist) continue;  // viewing angle above 60 degrees
-    const int level = mp->predict_scale(dist, log_sf, levels);
+    const auto seen = project_in_frustum(f, T_cw, *mp);  // viewing angle up to 60 degrees
+    if (!seen) continue;
+    const Eigen::Vector3d& pc = seen->point_camera;
+    const Eigen::Vector2d& uv = seen->pixel;
+    const int level = seen->level;
     const float radius = th * f.scale_factors()[static_cast<std::size_t>(level)];
     int best = 256;
     std::size_t best_idx = 0;

@@ -140,7 +140,18 @@ struct RunReport {
   std::optional<DenseReport> dense;
 };
 
+// Runs a sequence in three steps: configure (camera, config, SystemParams with the segmenter
+// chosen), run (frames through lrd::System; subscribers record the log, the progress, masks and
+// the dynamic-flag scores), evaluate (trajectories, ATE/RPE, dense map, summary.json).
 [[nodiscard]] RunReport run_sequence(const RunOptions& options);
+
+// The parameters of a run: the config's, with the command line's mode, segmenter, dense and
+// loop-closing choices (a mode that needs masks gets default_segmenter when none is configured).
+[[nodiscard]] SystemParams configure_system(const RunOptions& options, const config::Config& config);
+
+// Per-stage statistics and frame counts of report.log.
+void summarize_log(RunReport& report);
+void write_track_times(const std::filesystem::path& file, const std::vector<FrameLog>& log);
 
 // Writes summary.json next to the trajectories (called by run_sequence).
 void write_summary_json(const std::filesystem::path& file, const RunReport& report);

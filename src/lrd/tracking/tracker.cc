@@ -12,9 +12,30 @@
 #include "lrd/map/map.h"
 #include "lrd/map/map_point.h"
 #include "lrd/mapping/local_mapper.h"
-#include "lrd/tracking/view_coverage.h"
+#include "lrd/match/frustum.h"
 
 namespace lrd::tracking {
+
+namespace {
+// Drops the matches the pose optimization rejected (they are not searched again in this frame)
+// and counts the map points left that keyframes observe.
+int discard_outliers(data::Frame& frame) {
+  int in_map = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    map::MapPoint* mp = frame.map_points[i];
+    if (mp == nullptr) continue;
+    if (frame.outliers[i]) {
+      frame.map_points[i] = nullptr;
+      frame.outliers[i] = false;
+      mp->track.in_view = false;
+      mp->track.last_frame_seen = frame.id();
+    } else if (mp->num_observations() > 0) {
+      ++in_map;
+    }
+  }
+  return in_map;
+}
+}  // namespace
 
 TrackerParams TrackerParams::from_config(config::NodeReader r) {
   TrackerParams p;
@@ -46,54 +67,30 @@ Tracker::Tracker(map::Map& map, mapping::LocalMapper& mapper, TrackerParams para
     : map_(map),
       mapper_(mapper),
       params_(params),
+      keyframes_(map, mapper, params_),
       motion_matcher_({0.9f, true}),
       reference_matcher_({0.7f, true}),
       local_matcher_({0.8f, false}) {}
 
-TrackingState Tracker::track(data::Frame& frame, double* wait_seconds) {
+TrackOutcome Tracker::track(data::Frame& frame) {
+  TrackOutcome outcome;
   const auto t0 = std::chrono::steady_clock::now();
   std::unique_lock lock(map_.mutex());
-  if (wait_seconds != nullptr)
-    *wait_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  outcome.wait_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   if (state_ == TrackingState::NotInitialized) {
-    initialize(frame);
+    outcome.new_keyframe = initialize(frame);
   } else {
-    // Points replaced by fusion since the last frame.
-    for (auto& mp : last_frame_->map_points)
-      if (mp != nullptr && mp->replaced_by() != nullptr) {
-        while (mp->replaced_by() != nullptr) mp = mp->replaced_by();
-      }
-    update_last_frame();
-    bool ok;
-    bool relocalized = false;
-    if (state_ == TrackingState::Ok) {
-      ok = false;
-      if (velocity_ && !recently_recovered(frame)) ok = track_with_motion_model(frame);
-      if (!ok) ok = track_reference_keyframe(frame);
-    } else {
-      // Lost: relocalize by place recognition; failing that (or without a vocabulary), try the
-      // last reference keyframe from the last known pose.
-      relocalized = relocalize(frame);
-      ok = relocalized || track_reference_keyframe(frame);
-      if (ok) {
-        recovered_ = true;
-        recovered_frame_id_ = frame.id();
-        velocity_.reset();
-      }
-    }
-    if (ok && dynamic_check_) {
-      std::vector<map::KeyFrame*> nearby = local_keyframes_;
-      if (reference_kf_ != nullptr && std::find(nearby.begin(), nearby.end(), reference_kf_) == nearby.end())
-        nearby.push_back(reference_kf_);
-      dynamic_check_(frame, nearby);
-    }
-    if (ok) ok = track_local_map(frame);
+    const bool ok = track_frame(frame, outcome);
     state_ = ok ? TrackingState::Ok : TrackingState::Lost;
-    if (ok && relocalized) ++relocalizations_;
     if (ok) {
       velocity_ = frame.T_cw() * last_frame_->T_wc();
-      if (need_new_keyframe(frame)) create_new_keyframe(frame);
+      const KeyFrameContext context{reference_kf_, inliers_,
+                                    recovered_ ? std::optional(recovered_frame_id_) : std::nullopt};
+      if (keyframes_.needed(frame, context)) {
+        outcome.new_keyframe = keyframes_.insert(frame);
+        reference_kf_ = outcome.new_keyframe;
+      }
       // Outliers do not carry over to the next frame's motion model.
       for (std::size_t i = 0; i < frame.size(); ++i)
         if (frame.outliers[i]) frame.map_points[i] = nullptr;
@@ -101,7 +98,46 @@ TrackingState Tracker::track(data::Frame& frame, double* wait_seconds) {
       velocity_.reset();
     }
   }
+  record(frame);
+  outcome.state = state_;
+  outcome.inliers = inliers_;
+  if (state_ == TrackingState::Ok && frame.has_pose()) outcome.T_cw = frame.T_cw();
+  return outcome;
+}
 
+bool Tracker::track_frame(data::Frame& frame, TrackOutcome& outcome) {
+  // Points replaced by fusion since the last frame.
+  for (auto& mp : last_frame_->map_points)
+    while (mp != nullptr && mp->replaced_by() != nullptr) mp = mp->replaced_by();
+  update_last_frame();
+  bool ok = false;
+  if (state_ == TrackingState::Ok) {
+    if (velocity_ && !recently_recovered(frame)) ok = track_with_motion_model(frame);
+    if (!ok) ok = track_reference_keyframe(frame);
+  } else {
+    // Lost: relocalize by place recognition; failing that (or without a vocabulary), try the
+    // last reference keyframe from the last known pose.
+    outcome.relocalized = relocalize(frame);
+    ok = outcome.relocalized || track_reference_keyframe(frame);
+    if (ok) {
+      recovered_ = true;
+      recovered_frame_id_ = frame.id();
+      velocity_.reset();
+    }
+  }
+  if (ok && moving_point_check_ != nullptr) {
+    std::vector<map::KeyFrame*> nearby = local_keyframes_;
+    if (reference_kf_ != nullptr && std::find(nearby.begin(), nearby.end(), reference_kf_) == nearby.end())
+      nearby.push_back(reference_kf_);
+    outcome.geometry = moving_point_check_->remove_moving_points(frame, nearby);
+  }
+  if (ok) ok = track_local_map(frame);
+  outcome.relocalized = outcome.relocalized && ok;
+  if (outcome.relocalized) ++relocalizations_;
+  return ok;
+}
+
+void Tracker::record(const data::Frame& frame) {
   FrameRecord rec;
   rec.frame_id = frame.id();
   rec.timestamp = frame.timestamp();
@@ -116,7 +152,6 @@ TrackingState Tracker::track(data::Frame& frame, double* wait_seconds) {
   records_.push_back(rec);
   if (state_ == TrackingState::Ok) last_frame_ = frame;
   else if (last_frame_) last_frame_->map_points.assign(last_frame_->size(), nullptr);
-  return state_;
 }
 
 std::optional<Eigen::Isometry3d> Tracker::predicted_pose() const {
@@ -129,10 +164,10 @@ bool Tracker::recently_recovered(const data::Frame& frame) const {
   return recovered_ && frame.id() < recovered_frame_id_ + 2;
 }
 
-void Tracker::initialize(data::Frame& frame) {
+map::KeyFrame* Tracker::initialize(data::Frame& frame) {
   std::size_t with_depth = 0;
   for (std::size_t i = 0; i < frame.size(); ++i) with_depth += frame.depth(i) > 0.0f ? 1 : 0;
-  if (with_depth < static_cast<std::size_t>(params_.init_min_features)) return;
+  if (with_depth < static_cast<std::size_t>(params_.init_min_features)) return nullptr;
 
   // The first keyframe defines the world frame.
   frame.set_pose(Eigen::Isometry3d::Identity());
@@ -150,12 +185,13 @@ void Tracker::initialize(data::Frame& frame) {
     frame.map_points[i] = mp;
   }
   mapper_.insert_keyframe(kf);
+  keyframes_.inserted_first(frame);
   reference_kf_ = kf;
-  last_keyframe_frame_id_ = frame.id();
   local_keyframes_ = {kf};
   local_points_ = map_.map_points();
   inliers_ = static_cast<int>(with_depth);
   state_ = TrackingState::Ok;
+  return kf;
 }
 
 void Tracker::update_last_frame() {
@@ -192,20 +228,7 @@ bool Tracker::track_reference_keyframe(data::Frame& frame) {
   if (matches < params_.min_reference_matches) return false;
   frame.set_pose(last_frame_->T_cw());
   optimize_pose(frame);
-  int in_map = 0;
-  for (std::size_t i = 0; i < frame.size(); ++i) {
-    map::MapPoint* mp = frame.map_points[i];
-    if (mp == nullptr) continue;
-    if (frame.outliers[i]) {
-      frame.map_points[i] = nullptr;
-      frame.outliers[i] = false;
-      mp->track.in_view = false;
-      mp->track.last_frame_seen = frame.id();
-    } else if (mp->num_observations() > 0) {
-      ++in_map;
-    }
-  }
-  return in_map >= params_.min_pose_inliers;
+  return discard_outliers(frame) >= params_.min_pose_inliers;
 }
 
 bool Tracker::track_with_motion_model(data::Frame& frame) {
@@ -220,20 +243,7 @@ bool Tracker::track_with_motion_model(data::Frame& frame) {
   spdlog::debug("frame {}: motion model {} matches", frame.id(), matches);
   if (matches < params_.min_motion_matches) return false;
   optimize_pose(frame);
-  int in_map = 0;
-  for (std::size_t i = 0; i < frame.size(); ++i) {
-    map::MapPoint* mp = frame.map_points[i];
-    if (mp == nullptr) continue;
-    if (frame.outliers[i]) {
-      frame.map_points[i] = nullptr;
-      frame.outliers[i] = false;
-      mp->track.in_view = false;
-      mp->track.last_frame_seen = frame.id();
-    } else if (mp->num_observations() > 0) {
-      ++in_map;
-    }
-  }
-  return in_map >= params_.min_pose_inliers;
+  return discard_outliers(frame) >= params_.min_pose_inliers;
 }
 
 bool Tracker::track_local_map(data::Frame& frame) {
@@ -312,28 +322,6 @@ void Tracker::update_local_points(const data::Frame& frame) {
   }
 }
 
-bool Tracker::in_frustum(const data::Frame& frame, map::MapPoint* mp, float view_cos_limit) const {
-  mp->track.in_view = false;
-  const camera::PinholeCamera& cam = frame.camera();
-  const Eigen::Vector3d pc = frame.T_cw() * mp->position();
-  if (pc.z() <= 0.0) return false;
-  const Eigen::Vector2d uv = cam.project(pc);
-  if (!frame.in_bounds(uv.x(), uv.y())) return false;
-  const Eigen::Vector3d po = mp->position() - frame.T_wc().translation();
-  const float dist = static_cast<float>(po.norm());
-  if (dist < mp->min_distance_invariance() || dist > mp->max_distance_invariance()) return false;
-  const float view_cos = static_cast<float>(po.dot(mp->normal()) / dist);
-  if (view_cos < view_cos_limit) return false;
-  const auto& sf = frame.scale_factors();
-  mp->track.in_view = true;
-  mp->track.proj_x = static_cast<float>(uv.x());
-  mp->track.proj_y = static_cast<float>(uv.y());
-  mp->track.proj_xr = static_cast<float>(uv.x() - cam.bf / pc.z());
-  mp->track.scale_level = mp->predict_scale(dist, std::log(sf.size() > 1 ? sf[1] : 1.2f), static_cast<int>(sf.size()));
-  mp->track.view_cos = view_cos;
-  return true;
-}
-
 int Tracker::search_local_points(data::Frame& frame) {
   const std::uint64_t tag = frame.id();
   for (std::size_t i = 0; i < frame.size(); ++i) {
@@ -353,83 +341,20 @@ int Tracker::search_local_points(data::Frame& frame) {
       if (mp->track.last_frame_seen != tag) mp->track.in_view = false;
       continue;
     }
-    if (in_frustum(frame, mp, 0.5f)) {
-      mp->increase_visible();
-      ++to_match;
-    }
+    const auto seen = match::project_in_frustum(frame, frame.T_cw(), *mp, 0.5f);
+    mp->track.in_view = seen.has_value();
+    if (!seen) continue;
+    mp->track.proj_x = static_cast<float>(seen->pixel.x());
+    mp->track.proj_y = static_cast<float>(seen->pixel.y());
+    mp->track.proj_xr = static_cast<float>(seen->pixel.x() - frame.camera().bf / seen->point_camera.z());
+    mp->track.scale_level = seen->level;
+    mp->track.view_cos = seen->view_cos;
+    mp->increase_visible();
+    ++to_match;
   }
   if (to_match == 0) return 0;
   const float th = recently_recovered(frame) ? 5.0f : params_.local_map_radius;
   return local_matcher_.search_by_projection(frame, local_points_, th);
-}
-
-bool Tracker::need_new_keyframe(const data::Frame& frame) const {
-  const std::size_t n_kfs = map_.keyframe_count();
-  const auto max_frames = static_cast<std::uint64_t>(
-      params_.max_frames_between_keyframes > 0 ? params_.max_frames_between_keyframes
-                                               : static_cast<int>(std::lround(frame.camera().fps)));
-  if (recovered_ && frame.id() < recovered_frame_id_ + max_frames && n_kfs > max_frames) return false;
-  const int min_obs = n_kfs <= 2 ? 2 : 3;
-  const int ref_matches = reference_kf_->tracked_map_points(min_obs);
-  const bool idle = mapper_.accepts_keyframes();
-
-  // Close points tracked / not tracked: too few tracked and enough new ones means the view has
-  // moved on to nearby structure the map lacks.
-  int tracked_close = 0, untracked_close = 0;
-  for (std::size_t i = 0; i < frame.size(); ++i) {
-    if (!frame.is_close(i)) continue;
-    if (frame.map_points[i] != nullptr && !frame.outliers[i]) ++tracked_close;
-    else ++untracked_close;
-  }
-  const bool need_close = tracked_close < 100 && untracked_close > 70;
-  // The tracked points span too little of the view (docs/slam-core.md, "Keyframe coverage").
-  const double coverage = params_.keyframe_coverage > 0.0 ? tracked_view_coverage(frame) : 1.0;
-  const bool need_coverage = coverage < params_.keyframe_coverage;
-  const double ratio = n_kfs < 2 ? 0.4 : params_.reference_ratio;
-  const bool c1a = frame.id() >= last_keyframe_frame_id_ + max_frames;
-  const bool c1b =
-      frame.id() >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(params_.min_frames_between_keyframes) && idle;
-  const bool c1c = inliers_ < ref_matches * 0.25 || need_close;
-  // Coverage joins c2 only: its keyframes wait until local mapping is idle (c1b) instead of
-  // interrupting it, so the rule adds no mapping load to a busy thread.
-  const bool c2 = (inliers_ < ref_matches * ratio || need_close || need_coverage) && inliers_ > 15;
-  spdlog::debug("frame {}: keyframe? inliers {} ref {} (kf {}) close {}/{} coverage {:.2f} idle {} c1 {}{}{} c2 {}",
-                frame.id(), inliers_, ref_matches, reference_kf_->id(), tracked_close, untracked_close, coverage, idle,
-                c1a, c1b, c1c, c2);
-  if (!((c1a || c1b || c1c) && c2)) return false;
-  if (idle) return true;
-  mapper_.interrupt_ba();
-  return mapper_.queued() < static_cast<std::size_t>(mapper_.params().max_queued);
-}
-
-void Tracker::create_new_keyframe(data::Frame& frame) {
-  map::KeyFrame* kf = map_.create_keyframe(frame);
-  reference_kf_ = kf;
-  // New map points from depth: all close keypoints without a point, and the nearest far ones
-  // until at least keyframe_close_points are covered (ORB-SLAM2's RGB-D CreateNewKeyFrame).
-  std::vector<std::pair<float, std::size_t>> by_depth;
-  for (std::size_t i = 0; i < frame.size(); ++i)
-    if (frame.depth(i) > 0.0f) by_depth.emplace_back(frame.depth(i), i);
-  std::sort(by_depth.begin(), by_depth.end());
-  const double close = frame.camera().close_depth_threshold();
-  int covered = 0;
-  for (const auto& [d, i] : by_depth) {
-    map::MapPoint* mp = frame.map_points[i];
-    if (mp == nullptr || mp->num_observations() < 1) {
-      const auto x = frame.unproject_world(i);
-      map::MapPoint* created = map_.create_map_point(*x, kf, frame.id());
-      created->add_observation(kf, i);
-      kf->add_map_point(created, i);
-      created->compute_distinctive_descriptor();
-      created->update_normal_and_depth();
-      frame.map_points[i] = created;
-      frame.outliers[i] = false;
-    }
-    ++covered;
-    if (d > close && covered > params_.keyframe_close_points) break;
-  }
-  mapper_.insert_keyframe(kf);
-  last_keyframe_frame_id_ = frame.id();
 }
 
 }  // namespace lrd::tracking

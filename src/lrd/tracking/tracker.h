@@ -7,14 +7,14 @@
 // corrections of the map.
 #include <Eigen/Geometry>
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <vector>
 
-#include "lrd/config/node_reader.h"
 #include "lrd/data/frame.h"
+#include "lrd/dynamic/moving_point_check.h"
 #include "lrd/match/orb_matcher.h"
-#include "lrd/optim/pose_optimizer.h"
+#include "lrd/tracking/keyframe_inserter.h"
+#include "lrd/tracking/tracker_params.h"
 #include "lrd/tracking/tracking_state.h"
 
 namespace lrd::map {
@@ -32,31 +32,6 @@ class Vocabulary;
 
 namespace lrd::tracking {
 
-struct TrackerParams {
-  int init_min_features = 500;          // keypoints with depth needed to start the map
-  float motion_model_radius = 15.0f;    // search radius (px at level 0), ORB-SLAM2's RGB-D value
-  int min_motion_matches = 20;          // below: widen the search once, then fall back
-  int min_reference_matches = 15;       // reference-keyframe matching
-  int min_pose_inliers = 10;            // after motion-only optimization
-  int min_local_map_inliers = 30;       // tracking is OK above this
-  int min_inliers_after_recovery = 50;  // ... for a second after recovering from loss
-  int max_local_keyframes = 80;
-  float local_map_radius = 1.0f;
-  int max_frames_between_keyframes = 0;  // 0: the camera's fps
-  int min_frames_between_keyframes = 0;
-  double reference_ratio = 0.75;  // keyframe when tracked points fall below this share of the reference's
-  int keyframe_close_points = 100;      // new keyframes create points from at least this many close depths
-  // Keyframe when the tracked close points span less than this share of the extent of all close
-  // keypoints, across or down the image: a map seen in one strip of the view leaves rotation and
-  // sideways translation nearly interchangeable (0: off, as ORB-SLAM2; docs/slam-core.md).
-  double keyframe_coverage = 0.7;
-  int min_relocalization_inliers = 20;  // after motion-only BA on the PnP inliers
-  optim::PoseOptimizerParams pose;
-
-  // Reads the `tracking` section of the config (and finishes it).
-  static TrackerParams from_config(config::NodeReader reader);
-};
-
 // One tracked (or lost) frame: its pose relative to the reference keyframe.
 struct FrameRecord {
   std::uint64_t frame_id = 0;
@@ -67,20 +42,29 @@ struct FrameRecord {
   int inliers = 0;
 };
 
+// Everything tracking did with one frame: callers never read the tracker's internals to learn it.
+struct TrackOutcome {
+  TrackingState state = TrackingState::NotInitialized;
+  std::optional<Eigen::Isometry3d> T_cw;  // world-to-camera, when tracking is OK
+  int inliers = 0;                        // map points matched and kept by the pose optimization
+  map::KeyFrame* new_keyframe = nullptr;  // the keyframe this frame became (also the first one)
+  bool relocalized = false;               // recovered from loss on this frame by place recognition
+  dynamic::GeometryStats geometry;        // the moving-point check (zero without one)
+  double wait_seconds = 0.0;              // waiting for local mapping to release the map
+};
+
 class Tracker {
  public:
   Tracker(map::Map& map, mapping::LocalMapper& mapper, TrackerParams params);
 
-  // Tracks `frame` (features already extracted), holding the map mutex meanwhile; `wait_seconds`
-  // receives the time spent waiting for that mutex (local mapping holding it).
-  TrackingState track(data::Frame& frame, double* wait_seconds = nullptr);
+  // Tracks `frame` (features already extracted), holding the map mutex meanwhile.
+  TrackOutcome track(data::Frame& frame);
 
   // Called once per frame after the first pose estimate (motion model or reference keyframe) and
   // before local-map tracking, with the map mutex held and the keyframes near the frame: the
   // multi-view geometry check (paper §2.7) removes the dynamic keypoints it finds there, so the
-  // final pose is optimized without them and they never create map points.
-  using DynamicCheck = std::function<void(data::Frame& frame, const std::vector<map::KeyFrame*>& nearby)>;
-  void set_dynamic_check(DynamicCheck check) { dynamic_check_ = std::move(check); }
+  // final pose is optimized without them and they never create map points. Null: no check.
+  void set_moving_point_check(dynamic::MovingPointCheck* check) { moving_point_check_ = check; }
   // Relocalization when lost (without: only the last reference keyframe is tried again).
   void set_place_recognition(const place::Vocabulary* vocabulary, place::KeyFrameDatabase* database) {
     vocabulary_ = vocabulary;
@@ -98,7 +82,9 @@ class Tracker {
   [[nodiscard]] const TrackerParams& params() const { return params_; }
 
  private:
-  void initialize(data::Frame& frame);
+  // Each step returns whether the frame is still tracked.
+  map::KeyFrame* initialize(data::Frame& frame);
+  bool track_frame(data::Frame& frame, TrackOutcome& outcome);
   bool track_reference_keyframe(data::Frame& frame);
   bool relocalize(data::Frame& frame);  // relocalization.cc
   bool track_with_motion_model(data::Frame& frame);
@@ -106,16 +92,15 @@ class Tracker {
   void update_local_keyframes(data::Frame& frame);
   void update_local_points(const data::Frame& frame);
   int search_local_points(data::Frame& frame);
-  bool in_frustum(const data::Frame& frame, map::MapPoint* mp, float view_cos_limit) const;
   int optimize_pose(data::Frame& frame);
-  [[nodiscard]] bool need_new_keyframe(const data::Frame& frame) const;
-  void create_new_keyframe(data::Frame& frame);
   void update_last_frame();
+  void record(const data::Frame& frame);
   [[nodiscard]] bool recently_recovered(const data::Frame& frame) const;
 
   map::Map& map_;
   mapping::LocalMapper& mapper_;
   TrackerParams params_;
+  KeyFrameInserter keyframes_;
   match::OrbMatcher motion_matcher_;  // nn 0.9, rotation check
   match::OrbMatcher reference_matcher_;  // nn 0.7, rotation check
   match::OrbMatcher local_matcher_;      // nn 0.8
@@ -126,14 +111,13 @@ class Tracker {
   Eigen::Isometry3d last_T_c_ref_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> velocity_;  // T_c(t) c(t-1)
   map::KeyFrame* reference_kf_ = nullptr;
-  std::uint64_t last_keyframe_frame_id_ = 0;
   std::uint64_t recovered_frame_id_ = 0;
   bool recovered_ = false;
   int inliers_ = 0;
   std::vector<map::KeyFrame*> local_keyframes_;
   std::vector<map::MapPoint*> local_points_;
   std::vector<FrameRecord> records_;
-  DynamicCheck dynamic_check_;
+  dynamic::MovingPointCheck* moving_point_check_ = nullptr;
   const place::Vocabulary* vocabulary_ = nullptr;
   place::KeyFrameDatabase* database_ = nullptr;
   int relocalizations_ = 0;

@@ -1,0 +1,132 @@
+#include "lrd/dynamic/dynamic_front_end.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <spdlog/spdlog.h>
+
+#include "lrd/data/frame.h"
+#include "lrd/dynamic/mask_propagator.h"
+#include "lrd/segmentation/mask_folder_segmenter.h"
+#include "lrd/segmentation/onnx_segmenter.h"
+#include "lrd/segmentation/segmentation_worker.h"
+#include "lrd/util/error.h"
+
+namespace lrd::dynamic {
+
+namespace {
+// Frames kept to carry an older mask over to the current one.
+constexpr std::size_t kRecentFrames = 30;
+
+std::unique_ptr<segmentation::Segmenter> make_segmenter(const segmentation::SegmentationParams& p) {
+  switch (p.backend) {
+    case segmentation::Backend::Onnx: return std::make_unique<segmentation::OnnxSegmenter>(p.onnx);
+    case segmentation::Backend::Masks: return std::make_unique<segmentation::MaskFolderSegmenter>(p.masks);
+    case segmentation::Backend::None: break;
+  }
+  return nullptr;
+}
+}  // namespace
+
+DynamicFrontEnd::DynamicFrontEnd(DynamicParams params, segmentation::SegmentationParams segmentation,
+                                 const camera::PinholeCamera& camera)
+    : params_(params), segmentation_(std::move(segmentation)), camera_(camera), filter_(params_.geometry) {
+  if (!dynamic::uses_segmentation(params_.mode)) return;
+  if (segmentation_.backend == segmentation::Backend::None)
+    throw Error("mode '" + to_string(params_.mode) +
+                "' needs a segmentation backend (segmentation.backend: onnx or masks; or --segmenter)");
+  worker_ = std::make_unique<segmentation::SegmentationWorker>(make_segmenter(segmentation_), segmentation_.schedule,
+                                                               camera_.rgb_order);
+}
+
+DynamicFrontEnd::~DynamicFrontEnd() = default;
+
+void DynamicFrontEnd::shutdown() {
+  if (worker_) worker_->shutdown();
+}
+
+std::string DynamicFrontEnd::segmentation_description() const {
+  if (!worker_) return "none";
+  return worker_->segmenter().describe() + ", " + segmentation::to_string(worker_->schedule());
+}
+
+bool DynamicFrontEnd::network_sees(std::uint64_t id) const {
+  return segmentation_.schedule == segmentation::Schedule::Sync ||
+         id % static_cast<std::uint64_t>(segmentation_.stride) == 0;
+}
+
+void DynamicFrontEnd::submit(std::uint64_t id, double timestamp, const cv::Mat& rgb) {
+  if (worker_ && network_sees(id)) worker_->submit(id, timestamp, rgb.clone());
+}
+
+SemanticMask DynamicFrontEnd::mask(std::uint64_t id, const cv::Mat& depth,
+                                   const std::optional<Eigen::Isometry3d>& predicted_T_cw) {
+  current_depth_ = depth;
+  SemanticMask out;
+  if (!worker_) return out;
+  const bool sync = segmentation_.schedule == segmentation::Schedule::Sync;
+  // A frame the network was not given (async stride) takes the newest mask without waiting.
+  const auto result = worker_->wait(
+      id, sync ? std::nullopt : std::optional<double>(network_sees(id) ? segmentation_.max_wait_ms / 1000.0 : 0.0));
+  if (!result) return out;
+  cv::Mat mask = result->mask.clone();  // dilated in place below; the worker keeps its copy
+  const auto age = static_cast<int>(id - result->frame_id);
+  out.mask_frame = static_cast<std::int64_t>(result->frame_id);
+  out.mask_age = age;
+  out.segmentation_seconds = result->seconds;
+  int dilation = segmentation_.dilation_px;
+  if (age > 0) {
+    const auto it = std::find_if(recent_.begin(), recent_.end(),
+                                 [&](const RecentFrame& r) { return r.id == result->frame_id; });
+    if (predicted_T_cw && it != recent_.end() && it->T_cw)
+      mask = propagate_mask(mask, it->depth, *predicted_T_cw * it->T_cw->inverse(), camera_);
+    dilation += std::min(segmentation_.max_age_dilation_px,
+                         static_cast<int>(std::lround(age * segmentation_.age_dilation_px)));
+  }
+  dilate_mask(mask, dilation);
+  out.mask = mask;
+  return out;
+}
+
+GeometryStats DynamicFrontEnd::remove_moving_points(data::Frame& f, const std::vector<map::KeyFrame*>& nearby) {
+  const auto t0 = std::chrono::steady_clock::now();
+  // In geometric mode nothing was filtered before the first estimate: judge from a pose the
+  // moving objects cannot drag, and start the final optimization from it.
+  if (params_.mode == DynamicMode::Geometric) {
+    int inliers = 0;
+    const auto T = filter_.robust_pose(f, &inliers);
+    spdlog::debug("frame {}: robust pose {} ({} inliers)", f.id(), T ? "ok" : "failed", inliers);
+    if (T) f.set_pose(*T);
+  }
+  const GeometryCheckResult r = filter_.check(f, current_depth_, nearby);
+  if (r.flagged_keypoints > 0) f.remove_keypoints(r.dynamic);
+  if (!r.mask.empty()) {
+    if (f.dynamic_mask.empty()) {
+      f.dynamic_mask = r.mask;
+    } else {
+      cv::Mat merged;  // a new buffer: the frame's mask may share the caller's
+      cv::bitwise_or(f.dynamic_mask, r.mask, merged);
+      f.dynamic_mask = merged;
+    }
+  }
+  spdlog::debug("frame {}: geometry check: {} keyframes, {} judged, {} moving, {} skipped (parallax), {} "
+                "keypoints removed",
+                f.id(), r.keyframes, r.judged, r.seeds, r.parallax_skipped, r.flagged_keypoints);
+  GeometryStats stats;
+  stats.keypoints_removed = r.flagged_keypoints;
+  stats.seeds = r.seeds;
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return stats;
+}
+
+void DynamicFrontEnd::frame_done(std::uint64_t id, const std::optional<Eigen::Isometry3d>& T_cw) {
+  // Only a carried-over mask needs the history.
+  if (worker_) {
+    recent_.push_back({id, current_depth_, T_cw});
+    if (recent_.size() > kRecentFrames) recent_.pop_front();
+  }
+  current_depth_ = cv::Mat();
+}
+
+}  // namespace lrd::dynamic

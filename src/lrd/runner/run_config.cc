@@ -1,0 +1,90 @@
+// Configure: which camera, config and segmenter a run gets, read once into SystemParams.
+#include <filesystem>
+
+#include "lrd/config/orbslam_settings.h"
+#include "lrd/runner/sequence_runner.h"
+#include "lrd/segmentation/onnx_presets.h"
+#include "lrd/util/error.h"
+
+namespace lrd::runner {
+
+namespace fs = std::filesystem;
+
+config::Config resolve_config(const RunOptions& o, std::string* source) {
+  config::Config cfg = o.config ? config::load_config(*o.config) : config::Config{};
+  std::string from;
+  if (o.settings && o.preset) throw Error("--settings and --preset cannot be combined");
+  if (o.settings) {
+    const config::Settings s = config::read_orbslam_settings(*o.settings);
+    cfg.camera = s.camera;
+    cfg.features = s.orb;
+    from = "settings " + o.settings->string();
+  } else if (o.preset) {
+    cfg.camera = camera::camera_preset(*o.preset);
+    from = "preset " + *o.preset;
+  } else if (cfg.camera_given) {
+    from = "config " + cfg.file.string();
+  } else if (fs::exists(o.sequence / "settings.yaml")) {
+    const config::Settings s = config::read_orbslam_settings(o.sequence / "settings.yaml");
+    cfg.camera = s.camera;
+    from = "settings " + (o.sequence / "settings.yaml").string();
+  } else {
+    // TUM folder names carry the sensor: rgbd_dataset_freiburg3_walking_xyz.
+    std::string name = fs::absolute(o.sequence).lexically_normal().filename().string();
+    if (name.empty()) name = fs::absolute(o.sequence).lexically_normal().parent_path().filename().string();
+    const std::size_t at = name.find("freiburg");
+    const char sensor = at != std::string::npos && at + 8 < name.size() ? name[at + 8] : '\0';
+    if (sensor >= '1' && sensor <= '3') {
+      cfg.camera = camera::camera_preset(std::string("tum") + sensor);
+      from = std::string("preset tum") + sensor + " (from the folder name)";
+    } else {
+      from = "preset tum3 (default)";
+    }
+  }
+  if (source != nullptr) *source = from;
+  return cfg;
+}
+
+segmentation::SegmentationParams segmenter_preset(const std::string& name, const fs::path& sequence,
+                                                 segmentation::SegmentationParams p, const fs::path& model) {
+  using segmentation::Backend;
+  if (name == "none") {
+    p.backend = Backend::None;
+  } else if (name == "gt-masks" || name == "gt-masks-all") {
+    p.backend = Backend::Masks;
+    p.masks.folder = sequence / "mask";
+    // Synthetic mask values: 1 person, 2 moved object (sequence.json "mask_values").
+    p.masks.dynamic_values = name == "gt-masks" ? std::vector<int>{1} : std::vector<int>{1, 2};
+  } else if (segmentation::is_onnx_preset(name)) {
+    p.backend = Backend::Onnx;
+    p.onnx = segmentation::onnx_preset(name, model);
+  } else {
+    throw Error("unknown segmenter '" + name +
+                "' (choose none, gt-masks, gt-masks-all, fnet, selfie, selfie-landscape or espnetv2-voc)");
+  }
+  return p;
+}
+
+std::string default_segmenter(const fs::path& sequence) {
+  // Our synthetic benchmark writes sequence.json; FNet-lite was trained on its renders. Real
+  // camera data gets the network that knows real people.
+  return fs::exists(sequence / "sequence.json") ? "fnet" : "selfie-landscape";
+}
+
+SystemParams configure_system(const RunOptions& o, const config::Config& cfg) {
+  SystemOptions sopts;
+  sopts.deterministic = o.deterministic;
+  if (o.mode) sopts.mode = dynamic::parse_mode(*o.mode);
+  if (o.dense || o.save_repaired) sopts.dense = true;
+  if (o.no_loop_closing) sopts.loop_closing = false;
+  if (o.vocabulary) sopts.vocabulary = *o.vocabulary;
+  SystemParams p = SystemParams::from_config(cfg, sopts);
+  // A mode that needs masks with no segmenter configured gets the default network for the data.
+  std::optional<std::string> name = o.segmenter;
+  if (!name && dynamic::uses_segmentation(p.dynamic.mode) && p.segmentation.backend == segmentation::Backend::None)
+    name = default_segmenter(o.sequence);
+  if (name) p.segmentation = segmenter_preset(*name, o.sequence, p.segmentation, o.segmenter_model.value_or(fs::path{}));
+  return p;
+}
+
+}  // namespace lrd::runner

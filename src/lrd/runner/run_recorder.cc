@@ -1,0 +1,63 @@
+#include "lrd/runner/run_recorder.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "lrd/util/error.h"
+
+namespace lrd::runner {
+
+RunRecorder::RunRecorder(const io::TumSequence& sequence, std::size_t frames, bool progress,
+                         std::optional<std::filesystem::path> save_masks)
+    : sequence_(sequence), bar_(frames, progress), save_masks_(std::move(save_masks)) {
+  log_.reserve(frames);
+}
+
+void RunRecorder::on_frame(const events::FrameTracked& e) {
+  const auto index = static_cast<std::size_t>(e.frame_id);
+  log_.push_back({index, e.timestamp, e.state, e.timing, e.inliers, e.mask_frame, e.mask_age, e.geometric_keypoints});
+  if (save_masks_) {
+    const std::filesystem::path file = *save_masks_ / sequence_.entry(index).rgb_path.filename();
+    const cv::Mat m = e.mask.empty() ? cv::Mat::zeros(e.grey.size(), CV_8UC1) : e.mask;
+    if (!cv::imwrite(file.string(), m)) throw file_error(file.string(), "cannot write the mask");
+  }
+  bar_.update(log_.size(), fmt::format("{} ({} inliers)", tracking::to_string(e.state), e.inliers));
+}
+
+std::vector<FrameLog> RunRecorder::take_log() {
+  bar_.finish();
+  return std::move(log_);
+}
+
+FlagScorer::FlagScorer(const io::TumSequence& sequence, std::filesystem::path mask_folder,
+                       const features::OrbParams& orb, int stride)
+    : sequence_(sequence), mask_folder_(std::move(mask_folder)), extractor_(orb), stride_(stride) {}
+
+void FlagScorer::on_frame(const events::FrameTracked& e) {
+  const auto index = static_cast<std::size_t>(e.frame_id);
+  if (index % static_cast<std::size_t>(stride_) != 0) return;
+  const std::filesystem::path mask_file = mask_folder_ / sequence_.entry(index).rgb_path.filename();
+  const cv::Mat truth = cv::imread(mask_file.string(), cv::IMREAD_UNCHANGED);
+  if (truth.empty() || truth.type() != CV_8UC1 || truth.size() != e.grey.size()) return;
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  extractor_.extract(e.grey, cv::Mat(), keypoints, descriptors);
+  ++score_.frames;
+  for (const cv::KeyPoint& kp : keypoints) {
+    const int u = std::clamp(cvRound(kp.pt.x), 0, truth.cols - 1);
+    const int v = std::clamp(cvRound(kp.pt.y), 0, truth.rows - 1);
+    const std::uint8_t t = truth.at<std::uint8_t>(v, u);
+    const bool flagged = !e.mask.empty() && e.mask.at<std::uint8_t>(v, u) != 0;
+    if (t != 0) (flagged ? score_.true_positive : score_.false_negative)++;
+    else (flagged ? score_.false_positive : score_.true_negative)++;
+    if (t == 2) {
+      ++score_.moved_object;
+      score_.moved_object_flagged += flagged ? 1 : 0;
+    }
+  }
+}
+
+FlagScore FlagScorer::score() const { return score_; }
+
+}  // namespace lrd::runner

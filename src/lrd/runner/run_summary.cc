@@ -1,0 +1,174 @@
+// Evaluate's outputs: per-stage statistics, track_times.txt and summary.json.
+#include <algorithm>
+#include <fmt/format.h>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numeric>
+
+#include "lrd/runner/sequence_runner.h"
+#include "lrd/util/error.h"
+
+namespace lrd::runner {
+
+namespace fs = std::filesystem;
+
+double FlagScore::precision() const {
+  const std::size_t flagged = true_positive + false_positive;
+  return flagged == 0 ? 0.0 : static_cast<double>(true_positive) / static_cast<double>(flagged);
+}
+double FlagScore::recall() const {
+  const std::size_t dynamic = true_positive + false_negative;
+  return dynamic == 0 ? 0.0 : static_cast<double>(true_positive) / static_cast<double>(dynamic);
+}
+double FlagScore::moved_object_recall() const {
+  return moved_object == 0 ? 0.0 : static_cast<double>(moved_object_flagged) / static_cast<double>(moved_object);
+}
+
+namespace {
+
+StageSummary summarize(std::vector<double> ms) {
+  StageSummary s;
+  if (ms.empty()) return s;
+  s.mean_ms = std::accumulate(ms.begin(), ms.end(), 0.0) / static_cast<double>(ms.size());
+  const std::size_t mid = ms.size() / 2;
+  std::nth_element(ms.begin(), ms.begin() + static_cast<long>(mid), ms.end());
+  s.median_ms = ms[mid];
+  if (ms.size() % 2 == 0) {
+    const double lower = *std::max_element(ms.begin(), ms.begin() + static_cast<long>(mid));
+    s.median_ms = 0.5 * (s.median_ms + lower);
+  }
+  return s;
+}
+
+}  // namespace
+
+void write_track_times(const fs::path& file, const std::vector<FrameLog>& log) {
+  std::ofstream out(file);
+  // segmentation_ms runs in its own thread (not part of total_ms); mask_frame/mask_age say which
+  // frame's mask was used (-1: none); dynamic_kps: keypoints the geometry check removed.
+  out << "# frame timestamp extraction_ms segmentation_ms mask_wait_ms geometry_ms tracking_ms waiting_ms "
+         "mapping_ms total_ms state inliers mask_frame mask_age dynamic_kps\n";
+  for (const FrameLog& f : log)
+    out << fmt::format("{} {:.6f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {} {} {} {} {}\n", f.index,
+                       f.timestamp, 1e3 * f.timing.extraction, 1e3 * f.timing.segmentation, 1e3 * f.timing.mask_wait,
+                       1e3 * f.timing.geometry, 1e3 * f.timing.tracking, 1e3 * f.timing.waiting,
+                       1e3 * f.timing.mapping, 1e3 * f.timing.total(), tracking::to_string(f.state), f.inliers,
+                       f.mask_frame, f.mask_age, f.geometric_keypoints);
+  out.close();
+  if (!out) throw file_error(file.string(), "cannot write");
+}
+
+void summarize_log(RunReport& report) {
+  report.frames = report.log.size();
+  std::vector<double> ext, seg, mwait, geo, trk, wai, map, tot;
+  double age_sum = 0.0;
+  for (const FrameLog& f : report.log) {
+    seg.push_back(1e3 * f.timing.segmentation);
+    mwait.push_back(1e3 * f.timing.mask_wait);
+    geo.push_back(1e3 * f.timing.geometry);
+    if (f.mask_age >= 0) age_sum += f.mask_age;
+    else ++report.frames_without_mask;
+    report.tracked += f.state == TrackingState::Ok;
+    report.lost += f.state == TrackingState::Lost;
+    report.not_initialized += f.state == TrackingState::NotInitialized;
+    ext.push_back(1e3 * f.timing.extraction);
+    trk.push_back(1e3 * f.timing.tracking);
+    wai.push_back(1e3 * f.timing.waiting);
+    map.push_back(1e3 * f.timing.mapping);
+    tot.push_back(1e3 * f.timing.total());
+  }
+  report.extraction = summarize(ext);
+  report.segmentation_time = summarize(seg);
+  report.mask_wait = summarize(mwait);
+  report.geometry = summarize(geo);
+  if (report.frames > report.frames_without_mask)
+    report.mean_mask_age = age_sum / static_cast<double>(report.frames - report.frames_without_mask);
+  report.tracking = summarize(trk);
+  report.waiting = summarize(wai);
+  report.mapping = summarize(map);
+  report.total = summarize(tot);
+}
+
+namespace {
+nlohmann::json stage_json(const StageSummary& s) { return {{"median_ms", s.median_ms}, {"mean_ms", s.mean_ms}}; }
+
+}  // namespace
+
+void write_summary_json(const fs::path& file, const RunReport& r) {
+  nlohmann::json j = {
+      {"camera", r.camera_source},
+      {"frames", r.frames},
+      {"tracked", r.tracked},
+      {"lost", r.lost},
+      {"not_initialized", r.not_initialized},
+      {"keyframes", r.map.keyframes},
+      {"map_points", r.map.map_points},
+      {"culled_keyframes", r.map.culled_keyframes},
+      {"bundle_adjustments", r.map.bundle_adjustments},
+      {"relocalizations", r.map.relocalizations},
+      {"loop_closing", r.loop_closing},
+      {"vocabulary", r.vocabulary},
+      {"global_bundle_adjustments", r.map.global_bundle_adjustments},
+      {"mode", r.mode},
+      {"segmentation", r.segmentation},
+      {"mean_mask_age", r.mean_mask_age},
+      {"frames_without_mask", r.frames_without_mask},
+      {"per_frame", {{"extraction", stage_json(r.extraction)},
+                     {"segmentation", stage_json(r.segmentation_time)},
+                     {"mask_wait", stage_json(r.mask_wait)},
+                     {"geometry", stage_json(r.geometry)},
+                     {"tracking", stage_json(r.tracking)},
+                     {"waiting", stage_json(r.waiting)},
+                     {"mapping", stage_json(r.mapping)},
+                     {"total", stage_json(r.total)}}},
+      {"wall_seconds", r.wall_seconds},
+      {"decode_seconds", r.decode_seconds},
+      {"io_wait_seconds", r.io_wait_seconds},
+  };
+  j["loops"] = nlohmann::json::array();
+  for (const loop::LoopEvent& e : r.loops)
+    j["loops"].push_back({{"frame", e.frame_id},
+                          {"timestamp", e.timestamp},
+                          {"keyframe", e.keyframe_id},
+                          {"loop_keyframe", e.loop_keyframe_id},
+                          {"inliers", e.inliers},
+                          {"correction_m", e.correction_m}});
+  if (r.has_ground_truth) {
+    j["ate"] = {{"rmse", r.ate_rmse}, {"mean", r.ate_mean}, {"median", r.ate_median}, {"max", r.ate_max},
+                {"pairs", r.ate_pairs}};
+    j["rpe"] = {{"trans_rmse", r.rpe_trans_rmse}, {"rot_rmse", r.rpe_rot_rmse}};
+  }
+  if (r.flags) {
+    j["dynamic_flags"] = {{"frames", r.flags->frames},
+                          {"precision", r.flags->precision()},
+                          {"recall", r.flags->recall()},
+                          {"true_positive", r.flags->true_positive},
+                          {"false_positive", r.flags->false_positive},
+                          {"false_negative", r.flags->false_negative},
+                          {"moved_object_keypoints", r.flags->moved_object},
+                          {"moved_object_recall", r.flags->moved_object_recall()}};
+  }
+  if (r.dense) {
+    const DenseReport& d = *r.dense;
+    nlohmann::json repair = {{"keyframes", d.repair.keyframes},
+                             {"dynamic_pixels", d.repair.dynamic_pixels},
+                             {"filled_pixels", d.repair.filled_pixels},
+                             {"fill_ratio", d.repair.fill_ratio()}};
+    if (d.repair_median_depth_error) {
+      repair["median_depth_error"] = *d.repair_median_depth_error;
+      repair["compared_pixels"] = d.repair_compared_pixels;
+    }
+    j["dense"] = {{"points", d.points}, {"assemble_seconds", d.assemble_seconds}, {"repair", repair}};
+    if (d.map)
+      j["dense"]["map"] = {{"threshold", d.map->threshold},       {"map_points", d.map->map_points},
+                           {"ghost_points", d.map->ghost_points}, {"ghost_ratio", d.map->ghost_ratio()},
+                           {"median_distance", d.map->median_distance}, {"seen_samples", d.map->seen_samples},
+                           {"covered_samples", d.map->covered_samples}, {"completeness", d.map->completeness()}};
+  }
+  std::ofstream out(file);
+  out << j.dump(2) << '\n';
+  out.close();
+  if (!out) throw file_error(file.string(), "cannot write");
+}
+
+}  // namespace lrd::runner

@@ -1,0 +1,33 @@
+#pragma once
+// The `tracking` section of the config, typed.
+#include "lrd/config/node_reader.h"
+#include "lrd/optim/pose_optimizer.h"
+
+namespace lrd::tracking {
+
+struct TrackerParams {
+  int init_min_features = 500;          // keypoints with depth needed to start the map
+  float motion_model_radius = 15.0f;    // search radius (px at level 0), ORB-SLAM2's RGB-D value
+  int min_motion_matches = 20;          // below: widen the search once, then fall back
+  int min_reference_matches = 15;       // reference-keyframe matching
+  int min_pose_inliers = 10;            // after motion-only optimization
+  int min_local_map_inliers = 30;       // tracking is OK above this
+  int min_inliers_after_recovery = 50;  // ... for a second after recovering from loss
+  int max_local_keyframes = 80;
+  float local_map_radius = 1.0f;
+  int max_frames_between_keyframes = 0;  // 0: the camera's fps
+  int min_frames_between_keyframes = 0;
+  double reference_ratio = 0.75;  // keyframe when tracked points fall below this share of the reference's
+  int keyframe_close_points = 100;      // new keyframes create points from at least this many close depths
+  // Keyframe when the tracked close points span less than this share of the extent of all close
+  // keypoints, across or down the image: a map seen in one strip of the view leaves rotation and
+  // sideways translation nearly interchangeable (0: off, as ORB-SLAM2; docs/slam-core.md).
+  double keyframe_coverage = 0.7;
+  int min_relocalization_inliers = 20;  // after motion-only BA on the PnP inliers
+  optim::PoseOptimizerParams pose;
+
+  // Reads the `tracking` section of the config (and finishes it).
+  static TrackerParams from_config(config::NodeReader reader);
+};
+
+}  // namespace lrd::tracking

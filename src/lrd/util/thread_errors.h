@@ -1,0 +1,48 @@
+#pragma once
+// The first error of any worker thread, kept for the thread that owns the workers: a worker
+// catches what it throws, records it here with its thread's name and stops; the owner rethrows it
+// as one lrd::Error ("local mapping thread: ...") at its next call. No exception ever leaves a
+// thread function, so no path leads to std::terminate.
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <string>
+
+#include "lrd/util/error.h"
+
+namespace lrd::util {
+
+class ThreadErrors {
+ public:
+  // Call inside a catch block (it reads std::current_exception()). Later errors are logged only.
+  void capture(const std::string& thread) noexcept {
+    const std::exception_ptr e = std::current_exception();
+    std::string message = "unknown error";
+    try {
+      if (e) std::rethrow_exception(e);
+    } catch (const std::exception& x) {
+      message = x.what();
+    } catch (...) {
+    }
+    std::lock_guard lock(mutex_);
+    if (has_error_.load()) return;
+    message_ = thread + " thread: " + message;
+    has_error_.store(true);
+  }
+  [[nodiscard]] bool has_error() const { return has_error_.load(); }
+  [[nodiscard]] std::string message() const {
+    std::lock_guard lock(mutex_);
+    return message_;
+  }
+  // Throws the first error, if there is one.
+  void rethrow() const {
+    if (has_error_.load()) throw Error(message());
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::string message_;
+  std::atomic<bool> has_error_{false};
+};
+
+}  // namespace lrd::util
