@@ -24,14 +24,19 @@ struct EvalMapCli {
 
 void register_eval_map_command(CLI::App& app) {
   auto cli = std::make_shared<EvalMapCli>();
-  CLI::App* cmd = app.add_subcommand("eval-map", "Judge a run's dense_map.ply against the sequence's scene.ply");
-  cmd->add_option("--run", cli->run, "Output folder of `lrdslam run --dense` (dense_map.ply, CameraTrajectory.txt)")
+  CLI::App* cmd =
+      app.add_subcommand("eval-map", "Judge a run's dense_map.ply against the sequence's scene.ply");
+  cmd->add_option("--run", cli->run,
+                  "Output folder of `lrdslam run --dense` (dense_map.ply, CameraTrajectory.txt)")
       ->required();
-  cmd->add_option("--sequence", cli->sequence, "The synthetic sequence folder (scene.ply, groundtruth.txt)")->required();
-  cmd->add_option("--threshold", cli->threshold, "Distance (m) beyond which a point is a ghost / a sample missing")
+  cmd->add_option("--sequence", cli->sequence, "The synthetic sequence folder (scene.ply, groundtruth.txt)")
+      ->required();
+  cmd->add_option("--threshold", cli->threshold,
+                  "Distance (m) beyond which a point is a ghost / a sample missing")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->add_option("--max-depth", cli->max_depth, "Scene samples farther than this from the camera count as unseen")
+  cmd->add_option("--max-depth", cli->max_depth,
+                  "Scene samples farther than this from the camera count as unseen")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->callback([cli] {

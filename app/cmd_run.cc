@@ -1,8 +1,12 @@
 // `lrdslam run`: SLAM over a TUM-layout sequence folder; trajectories, per-frame timings and a
 // summary into --out, and ATE/RPE when the folder has ground truth.
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 
@@ -12,8 +16,28 @@
 namespace lrd::app {
 namespace {
 
+// SIGINT / SIGTERM: the first stops reading frames (the run then writes its outputs and exits 130),
+// a second exits at once. Only async-signal-safe calls in the handler.
+std::atomic<bool> interrupt_requested{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void on_interrupt(int /*signal*/) {
+  if (interrupt_requested.exchange(true)) _exit(130);
+  constexpr char kMessage[] = "\ninterrupt: finishing and writing the outputs (again to quit at once)\n";
+  [[maybe_unused]] const auto n = write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+}
+
+void handle_interrupts() {
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
 struct RunCli {
-  std::string sequence, settings, preset, config, out, mode, segmenter, segmenter_model, save_masks, save_repaired;
+  std::string sequence, settings, preset, config, out, mode, segmenter, segmenter_model, save_masks,
+      save_repaired;
   bool dense = false;
   bool no_loop_closing = false;
   std::string vocabulary;
@@ -25,15 +49,17 @@ struct RunCli {
 };
 
 void print_dense(const runner::DenseReport& d) {
-  std::printf("dense map: %zu points (merged in %.2f s); repair: %zu keyframes, %.1f %% of %zu dynamic pixels filled",
-              d.points, d.assemble_seconds, d.repair.keyframes, 100.0 * d.repair.fill_ratio(), d.repair.dynamic_pixels);
+  std::printf(
+      "dense map: %zu points (merged in %.2f s); repair: %zu keyframes, %.1f %% of %zu dynamic pixels filled",
+      d.points, d.assemble_seconds, d.repair.keyframes, 100.0 * d.repair.fill_ratio(),
+      d.repair.dynamic_pixels);
   if (d.repair_median_depth_error)
     std::printf(", median depth error %.1f mm vs the static scene", 1e3 * *d.repair_median_depth_error);
   std::printf("\n");
   if (d.map) std::printf("dense map vs scene: %s\n", eval::describe(*d.map).c_str());
 }
 
-void print_report(const runner::RunOptions& o, const runner::RunReport& r) {
+void print_report(const runner::RunReport& r) {
   std::printf("camera: %s\n", r.camera_source.c_str());
   std::printf("frames: %zu  tracked: %zu  lost: %zu  not initialized: %zu\n", r.frames, r.tracked, r.lost,
               r.not_initialized);
@@ -41,22 +67,26 @@ void print_report(const runner::RunOptions& o, const runner::RunReport& r) {
               r.map.culled_keyframes, r.map.map_points, r.map.bundle_adjustments);
   std::printf("mode: %s  segmentation: %s\n", r.mode.c_str(), r.segmentation.c_str());
   std::printf("place recognition: %s; loop closing %s; %zu loops closed, %d relocalizations, %d global BAs\n",
-              r.vocabulary.empty() ? "off (no vocabulary)" : r.vocabulary.c_str(), r.loop_closing ? "on" : "off",
-              r.loops.size(), r.map.relocalizations, r.map.global_bundle_adjustments);
+              r.vocabulary.empty() ? "off (no vocabulary)" : r.vocabulary.c_str(),
+              r.loop_closing ? "on" : "off", r.loops.size(), r.map.relocalizations,
+              r.map.global_bundle_adjustments);
   for (const loop::LoopEvent& e : r.loops)
     std::printf("  loop: frame %llu (keyframe %llu) -> keyframe %llu, %d inliers, corrected by %.3f m\n",
                 static_cast<unsigned long long>(e.frame_id), static_cast<unsigned long long>(e.keyframe_id),
                 static_cast<unsigned long long>(e.loop_keyframe_id), e.inliers, e.correction_m);
-  std::printf("time per frame (ms, without decoding): median %.1f  mean %.1f\n", r.total.median_ms, r.total.mean_ms);
-  std::printf("  extraction %.1f / %.1f  tracking %.1f / %.1f  waiting %.1f / %.1f  mapping %.1f / %.1f "
-              "(median / mean)\n",
-              r.extraction.median_ms, r.extraction.mean_ms, r.tracking.median_ms, r.tracking.mean_ms,
-              r.waiting.median_ms, r.waiting.mean_ms, r.mapping.median_ms, r.mapping.mean_ms);
+  std::printf("time per frame (ms, without decoding): median %.1f  mean %.1f\n", r.total.median_ms,
+              r.total.mean_ms);
+  std::printf(
+      "  extraction %.1f / %.1f  tracking %.1f / %.1f  waiting %.1f / %.1f  mapping %.1f / %.1f "
+      "(median / mean)\n",
+      r.extraction.median_ms, r.extraction.mean_ms, r.tracking.median_ms, r.tracking.mean_ms,
+      r.waiting.median_ms, r.waiting.mean_ms, r.mapping.median_ms, r.mapping.mean_ms);
   if (r.segmentation != "none" || r.mode == "geometric")
-    std::printf("  segmentation %.1f (own thread)  mask wait %.1f  geometry check %.1f (median); mean mask age %.2f "
-                "frames, %zu frames without a mask\n",
-                r.segmentation_time.median_ms, r.mask_wait.median_ms, r.geometry.median_ms, r.mean_mask_age,
-                r.frames_without_mask);
+    std::printf(
+        "  segmentation %.1f (own thread)  mask wait %.1f  geometry check %.1f (median); mean mask age %.2f "
+        "frames, %zu frames without a mask\n",
+        r.segmentation_time.median_ms, r.mask_wait.median_ms, r.geometry.median_ms, r.mean_mask_age,
+        r.frames_without_mask);
   if (r.flags)
     std::printf("dynamic keypoint flags vs ground-truth masks (%zu frames): precision %.3f  recall %.3f%s\n",
                 r.flags->frames, r.flags->precision(), r.flags->recall(),
@@ -73,7 +103,7 @@ void print_report(const runner::RunOptions& o, const runner::RunReport& r) {
   }
   if (r.dense) print_dense(*r.dense);
   std::printf("wrote %s/{CameraTrajectory.txt, KeyFrameTrajectory.txt, track_times.txt, summary.json%s}\n",
-              o.out.string().c_str(), r.dense ? ", dense_map.ply, dense_map.png" : "");
+              r.out.string().c_str(), r.dense ? ", dense_map.ply, dense_map.png" : "");
 }
 
 }  // namespace
@@ -86,18 +116,21 @@ void register_run_command(CLI::App& app) {
   auto* settings = cmd->add_option("--settings", cli->settings, "ORB-SLAM2/3 settings file for the camera");
   cmd->add_option("--preset", cli->preset, "Camera preset: tum1, tum2, tum3")->excludes(settings);
   cmd->add_option("--config", cli->config, "lrd-slam YAML config (see config/default.yaml)");
-  cmd->add_option("--out", cli->out, "Output folder")->required();
+  cmd->add_option("--out", cli->out, "Output folder (default: the config's output.dir, \"output\")");
   cmd->add_flag("--deterministic", cli->deterministic,
                 "Local mapping in lock-step after each keyframe: identical input gives identical bytes");
-  cmd->add_option("--mode", cli->mode,
-                  "Dynamic-scene mode: static (ORB-SLAM2), semantic (LRD-SLAM P), geometric, full (LRD-SLAM C); "
-                  "default: the config's dynamic.mode");
-  cmd->add_option("--segmenter", cli->segmenter,
-                  "Segmentation: none; gt-masks (synthetic ground truth, people), gt-masks-all; networks: fnet "
-                  "(ours, for the synthetic benchmark), selfie-landscape (real people; the default for real data), "
-                  "selfie, espnetv2-voc (needs --segmenter-model). Default: the config's segmentation section, "
-                  "or for semantic/full without one: fnet on synthetic sequences, selfie-landscape otherwise");
-  cmd->add_option("--segmenter-model", cli->segmenter_model, "The segmenter preset's ONNX file (overrides its default)");
+  cmd->add_option(
+      "--mode", cli->mode,
+      "Dynamic-scene mode: static (ORB-SLAM2), semantic (LRD-SLAM P), geometric, full (LRD-SLAM C); "
+      "default: the config's dynamic.mode");
+  cmd->add_option(
+      "--segmenter", cli->segmenter,
+      "Segmentation: none; gt-masks (synthetic ground truth, people), gt-masks-all; networks: fnet "
+      "(ours, for the synthetic benchmark), selfie-landscape (real people; the default for real data), "
+      "selfie, espnetv2-voc (needs --segmenter-model). Default: the config's segmentation section, "
+      "or for semantic/full without one: fnet on synthetic sequences, selfie-landscape otherwise");
+  cmd->add_option("--segmenter-model", cli->segmenter_model,
+                  "The segmenter preset's ONNX file (overrides its default)");
   cmd->add_option("--save-masks", cli->save_masks,
                   "Write each frame's dynamic mask (PNG, named like its colour image) to this folder");
   cmd->add_flag("--dense", cli->dense,
@@ -106,11 +139,13 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--save-repaired", cli->save_repaired,
                   "Write each keyframe's repaired colour and depth (with the originals) to this folder");
   cmd->add_option("--max-frames", cli->max_frames, "Stop after this many frames (0: all)");
-  cmd->add_flag("--realtime", cli->realtime,
-                "Feed frames at their timestamps' pace, like a live camera (default: as fast as they are tracked)");
-  cmd->add_flag("--preload", cli->preload,
-                "Decode every frame before tracking starts (~2 MB a frame): per-frame times without a decoding "
-                "thread beside them, as ORB-SLAM2 measured (the benchmarks do this)");
+  cmd->add_flag(
+      "--realtime", cli->realtime,
+      "Feed frames at their timestamps' pace, like a live camera (default: as fast as they are tracked)");
+  cmd->add_flag(
+      "--preload", cli->preload,
+      "Decode every frame before tracking starts (~2 MB a frame): per-frame times without a decoding "
+      "thread beside them, as ORB-SLAM2 measured (the benchmarks do this)");
   cmd->add_flag("--no-loop-closing", cli->no_loop_closing,
                 "Switch loop closing off (ablations); relocalization stays");
   cmd->add_option("--vocabulary", cli->vocabulary,
@@ -136,8 +171,15 @@ void register_run_command(CLI::App& app) {
     o.realtime = cli->realtime;
     o.preload = cli->preload;
     o.progress = !cli->quiet;
+    o.interrupt = &interrupt_requested;
+    handle_interrupts();
     const runner::RunReport r = runner::run_sequence(o);
-    print_report(o, r);
+    print_report(r);
+    if (r.interrupted) {
+      std::fprintf(stderr, "interrupted after %zu frames\n", r.frames);
+      std::fflush(stdout);
+      std::exit(130);
+    }
   });
 }
 

@@ -56,17 +56,19 @@ void segment_images(const SegmentCli& cli) {
   std::error_code ec;
   fs::create_directories(cli.out, ec);
   if (ec) throw file_error(cli.out, "cannot create the output folder: " + ec.message());
-  std::printf("model: %s (%s, input %dx%d)\n", cli.model.c_str(), params.model.string().c_str(), params.input_width,
-              params.input_height);
+  std::printf("model: %s (%s, input %dx%d)\n", cli.model.c_str(), params.model.string().c_str(),
+              params.input_width, params.input_height);
   const bool multi_class = params.output != segmentation::OutputLayout::Probability;
   for (const std::string& name : cli.images) {
     std::error_code missing;
     if (!fs::is_regular_file(name, missing)) throw file_error(name, "no such image file");
     const cv::Mat bgr = cv::imread(name, cv::IMREAD_COLOR);
-    if (bgr.empty()) throw file_error(name, "cannot read this image (missing, or not an image OpenCV decodes)");
+    if (bgr.empty())
+      throw file_error(name, "cannot read this image (missing, or not an image OpenCV decodes)");
     const auto t0 = std::chrono::steady_clock::now();
     const cv::Mat labels = seg.labels(bgr, false);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     // The dynamic mask from the labels (the network ran once).
     cv::Mat mask;
     if (multi_class) {
@@ -79,8 +81,9 @@ void segment_images(const SegmentCli& cli) {
     write_png(fs::path(cli.out) / (stem + "_mask.png"), mask);
     write_png(fs::path(cli.out) / (stem + "_overlay.png"), overlay(bgr, labels, mask));
     if (multi_class) write_png(fs::path(cli.out) / (stem + "_labels.png"), labels);
-    std::printf("%s: %dx%d, dynamic %.1f %% of the image, %.1f ms (network and post-processing)\n", name.c_str(),
-                bgr.cols, bgr.rows, 100.0 * cv::countNonZero(mask) / static_cast<double>(mask.total()), ms);
+    std::printf("%s: %dx%d, dynamic %.1f %% of the image, %.1f ms (network and post-processing)\n",
+                name.c_str(), bgr.cols, bgr.rows,
+                100.0 * cv::countNonZero(mask) / static_cast<double>(mask.total()), ms);
   }
   std::printf("wrote %s/<image>_{mask,overlay%s}.png\n", cli.out.c_str(), multi_class ? ",labels" : "");
 }
@@ -94,7 +97,8 @@ void register_segment_command(CLI::App& app) {
                   "Preset: selfie-landscape (real people, fast), selfie, espnetv2-voc (needs --model-file), "
                   "fnet (our synthetic-benchmark model)")
       ->capture_default_str();
-  cmd->add_option("--model-file", cli->model_file, "The preset's ONNX file, instead of the shipped/cached one");
+  cmd->add_option("--model-file", cli->model_file,
+                  "The preset's ONNX file, instead of the shipped/cached one");
   cmd->add_option("--out", cli->out, "Output folder")->required();
   cmd->add_option("images", cli->images, "Image files (PNG, JPEG, ...)")->required();
   cmd->callback([cli] { segment_images(*cli); });

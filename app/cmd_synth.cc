@@ -1,43 +1,46 @@
 // lrdslam synth: render a synthetic dynamic RGB-D sequence in the TUM layout.
 #include <fmt/format.h>
-
 #include <unistd.h>
 
 #include <cstdio>
 
 #include "app/commands.h"
-#include "lrd/util/error.h"
 #include "lrd/synth/presets.h"
 #include "lrd/synth/sequence_writer.h"
 #include "lrd/synth/synthetic_sequence.h"
 #include "lrd/synth/voc_exporter.h"
+#include "lrd/util/error.h"
 
 namespace lrd::app {
 
 void register_synth_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("synth", "Render a synthetic dynamic RGB-D sequence (TUM layout + ground-truth masks)");
+  auto* cmd = app.add_subcommand(
+      "synth", "Render a synthetic dynamic RGB-D sequence (TUM layout + ground-truth masks)");
   auto opts = std::make_shared<synth::SynthOptions>();
   auto out = std::make_shared<std::string>();
   auto list = std::make_shared<bool>(false);
   std::string preset_help = "Preset:";
-  for (const auto& s : synth::preset_specs()) preset_help += "\n  " + s.name + " (" + std::to_string(s.default_frames) +
-                                                             " frames): " + s.description;
+  for (const auto& s : synth::preset_specs())
+    preset_help += "\n  " + s.name + " (" + std::to_string(s.default_frames) + " frames): " + s.description;
   cmd->add_option("--preset", opts->preset, preset_help)->capture_default_str();
   cmd->add_option("--out", *out, "Output folder")->required(false);
   cmd->add_option("--seed", opts->seed, "Random seed (actors' looks and timing, camera tremor, sensor noise)")
       ->capture_default_str();
-  cmd->add_option("--frames", opts->frames, "Number of frames (default: the preset's length; a prefix of it)");
+  cmd->add_option("--frames", opts->frames,
+                  "Number of frames (default: the preset's length; a prefix of it)");
   cmd->add_flag("--motion-blur", opts->motion_blur, "Average 5 sub-frames over a 1/60 s exposure");
   auto blank = std::make_shared<std::string>();
-  cmd->add_option("--blank", *blank,
-                  "START:COUNT - frames START.. are black without depth (a covered lens) while the camera moves on: "
-                  "a relocalization test");
+  cmd->add_option(
+      "--blank", *blank,
+      "START:COUNT - frames START.. are black without depth (a covered lens) while the camera moves on: "
+      "a relocalization test");
   cmd->add_flag("--list", *list, "List the presets and exit");
   auto voc_dir = std::make_shared<std::string>();
   auto voc_images = std::make_shared<int>(2000);
-  cmd->add_option("--export-voc", *voc_dir,
-                  "Instead of one sequence, write segmentation training data in the Pascal VOC layout to this "
-                  "folder (frames of every preset; seeds from --seed, default 1000, disjoint from evaluation seeds)");
+  cmd->add_option(
+      "--export-voc", *voc_dir,
+      "Instead of one sequence, write segmentation training data in the Pascal VOC layout to this "
+      "folder (frames of every preset; seeds from --seed, default 1000, disjoint from evaluation seeds)");
   cmd->add_option("--images", *voc_images, "With --export-voc: number of images")->capture_default_str();
   auto* seed_opt = cmd->get_option("--seed");
   cmd->callback([opts, out, list, voc_dir, voc_images, seed_opt, blank] {
@@ -58,8 +61,8 @@ void register_synth_command(CLI::App& app) {
         if (tty && (done % 20 == 0 || done == total)) std::fprintf(stderr, "\r  %d/%d images", done, total);
       });
       if (tty) std::fprintf(stderr, "\n");
-      std::printf("VOC export: %d train + %d val images in %.1f s -> %s (person pixels: %.1f %%)\n", s.train, s.val,
-                  s.seconds, voc_dir->c_str(), 100 * s.person_pixel_fraction);
+      std::printf("VOC export: %d train + %d val images in %.1f s -> %s (person pixels: %.1f %%)\n", s.train,
+                  s.val, s.seconds, voc_dir->c_str(), 100 * s.person_pixel_fraction);
       return;
     }
     if (*list) {
@@ -76,11 +79,12 @@ void register_synth_command(CLI::App& app) {
       if (tty && (done % 10 == 0 || done == total)) std::fprintf(stderr, "\r  %d/%d frames", done, total);
     });
     if (tty) std::fprintf(stderr, "\n");
-    std::printf("%s: %d frames in %.1f s (%.1f frames/s); people/objects cover %.1f %% of the image on average "
-                "(median %.1f %%, max %.1f %%), 20-50 %% in %.0f %% of frames\n",
-                seq.spec().name.c_str(), summary.frames, summary.seconds, summary.frames / summary.seconds,
-                100 * summary.mean_dynamic_fraction, 100 * summary.median_dynamic_fraction,
-                100 * summary.max_dynamic_fraction, 100 * summary.frames_with_20_to_50_percent);
+    std::printf(
+        "%s: %d frames in %.1f s (%.1f frames/s); people/objects cover %.1f %% of the image on average "
+        "(median %.1f %%, max %.1f %%), 20-50 %% in %.0f %% of frames\n",
+        seq.spec().name.c_str(), summary.frames, summary.seconds, summary.frames / summary.seconds,
+        100 * summary.mean_dynamic_fraction, 100 * summary.median_dynamic_fraction,
+        100 * summary.max_dynamic_fraction, 100 * summary.frames_with_20_to_50_percent);
   });
 }
 

@@ -40,7 +40,8 @@ int main(int argc, char** argv) {
   if (segmenter.empty()) segmenter = fs::exists("models/fnet-lite.onnx") ? "fnet" : "gt-masks";
 
   std::string md = fmt::format(
-      "| sequence | Y ms | without: median ms (× Y) | with dense: median ms (× Y) | ratio | keyframes repaired | "
+      "| sequence | Y ms | without: median ms (× Y) | with dense: median ms (× Y) | ratio | keyframes "
+      "repaired | "
       "filled | depth error mm | map points | ghosts > 5 cm | completeness |\n"
       "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   std::printf("segmenter: %s, full mode, %d runs each%s\n", segmenter.c_str(), repeat,
@@ -67,13 +68,12 @@ int main(int argc, char** argv) {
         }
       const double a = lrd::bench::median_of(without), b = lrd::bench::median_of(with);
       const auto& d = *dense_report.dense;
-      const std::string map =
-          d.map ? fmt::format("{} | {:.2f} % | {:.1f} %", d.map->map_points, 100 * d.map->ghost_ratio(),
-                              100 * d.map->completeness())
-                : "– | – | –";
+      const std::string map = d.map ? fmt::format("{} | {:.2f} % | {:.1f} %", d.map->map_points,
+                                                  100 * d.map->ghost_ratio(), 100 * d.map->completeness())
+                                    : "– | – | –";
       const std::string line = fmt::format(
-          "| {} | {:.2f} | {:.1f} ({:.2f}) | {:.1f} ({:.2f}) | {:.3f} | {} | {:.1f} % | {} | {} |\n", preset, y, a, a / y,
-          b, b / y, b / a, d.repair.keyframes, 100 * d.repair.fill_ratio(),
+          "| {} | {:.2f} | {:.1f} ({:.2f}) | {:.1f} ({:.2f}) | {:.3f} | {} | {:.1f} % | {} | {} |\n", preset,
+          y, a, a / y, b, b / y, b / a, d.repair.keyframes, 100 * d.repair.fill_ratio(),
           d.repair_median_depth_error ? fmt::format("{:.1f}", 1e3 * *d.repair_median_depth_error) : "–", map);
       std::fputs(line.c_str(), stdout);
       std::fflush(stdout);
@@ -85,7 +85,8 @@ int main(int argc, char** argv) {
   }
   fs::create_directories(fs::path(out_file).parent_path());
   std::ofstream(out_file) << "# Dense map: cost to tracking and quality (full mode, segmenter " << segmenter
-                          << (realtime ? ", frames at the camera's pace" : ", frames as fast as tracked") << ")\n\n"
+                          << (realtime ? ", frames at the camera's pace" : ", frames as fast as tracked")
+                          << ")\n\n"
                           << md;
   std::printf("wrote %s\n", out_file.c_str());
   return 0;

@@ -71,7 +71,8 @@ std::string error_table(const std::string& title, const std::vector<std::string>
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Dynamic-scene benchmark: all modes over walking, sitting and walking_pushed (paper Tables 4-7, 10)"};
+  CLI::App app{
+      "Dynamic-scene benchmark: all modes over walking, sitting and walking_pushed (paper Tables 4-7, 10)"};
   std::vector<std::string> presets{"walking_static",     "walking_xyz",    "walking_rpy",
                                    "walking_halfsphere", "sitting_static", "sitting_xyz",
                                    "sitting_halfsphere", "walking_pushed"};
@@ -91,9 +92,9 @@ int main(int argc, char** argv) {
   if (sync) modes.push_back("full-sync");
 
   std::map<std::string, Cell> cells;
-  std::printf("segmenter: %s\n%-19s %-10s %6s %5s %9s %9s %9s %8s %8s %8s %7s %7s\n", segmenter.c_str(), "preset",
-              "mode", "frames", "lost", "ATE cm", "RPEt cm/s", "RPEr d/s", "med ms", "mean ms", "med/Y", "prec",
-              "recall");
+  std::printf("segmenter: %s\n%-19s %-10s %6s %5s %9s %9s %9s %8s %8s %8s %7s %7s\n", segmenter.c_str(),
+              "preset", "mode", "frames", "lost", "ATE cm", "RPEt cm/s", "RPEr d/s", "med ms", "mean ms",
+              "med/Y", "prec", "recall");
   try {
     for (const std::string& preset : presets) {
       const fs::path dir = lrd::bench::ensure_sequence(cache, preset, frames);
@@ -133,7 +134,8 @@ int main(int argc, char** argv) {
   std::ostringstream md;
   md << "# Dynamic-scene benchmark\n\nSegmenter: `" << segmenter << "`. Synthetic presets, seed 1"
      << (frames > 0 ? fmt::format(", first {} frames", frames) : std::string(", default lengths"))
-     << ". Time per frame excludes PNG decoding; Y = median `cv::ORB` detectAndCompute on the same frames.\n\n";
+     << ". Time per frame excludes PNG decoding; Y = median `cv::ORB` detectAndCompute on the same "
+        "frames.\n\n";
   using RR = lrd::runner::RunReport;
   md << error_table("Table 4-5: ATE (m)", presets, modes, cells, &RR::ate) << "\n";
   md << error_table("Table 6: RPE translation (m/s)", presets, modes, cells, &RR::rpe_trans) << "\n";
@@ -148,7 +150,8 @@ int main(int argc, char** argv) {
       if (m != "static") md << "---|";
     md << "\n";
   };
-  md << "### Improvement rate eta over `static` (ATE RMSE / RPE trans RMSE / RPE rot RMSE, %)\n\n| sequence |";
+  md << "### Improvement rate eta over `static` (ATE RMSE / RPE trans RMSE / RPE rot RMSE, %)\n\n| sequence "
+        "|";
   non_static_header();
   nlohmann::json js;
   js["segmenter"] = segmenter;
@@ -214,16 +217,17 @@ int main(int argc, char** argv) {
 
   for (const auto& [key, c] : cells) {
     const RR& r = c.report;
-    nlohmann::json j = {{"preset", c.preset},
-                        {"mode", c.mode},
-                        {"frames", r.frames},
-                        {"lost", r.lost},
-                        {"keyframes", r.map.keyframes},
-                        {"y_ms", c.y_ms},
-                        {"time_ms", {{"mean", r.total.mean_ms}, {"median", r.total.median_ms}}},
-                        {"time_y", {{"mean", r.total.mean_ms / c.y_ms}, {"median", r.total.median_ms / c.y_ms}}},
-                        {"segmentation", r.segmentation},
-                        {"mean_mask_age", r.mean_mask_age}};
+    nlohmann::json j = {
+        {"preset", c.preset},
+        {"mode", c.mode},
+        {"frames", r.frames},
+        {"lost", r.lost},
+        {"keyframes", r.map.keyframes},
+        {"y_ms", c.y_ms},
+        {"time_ms", {{"mean", r.total.mean_ms}, {"median", r.total.median_ms}}},
+        {"time_y", {{"mean", r.total.mean_ms / c.y_ms}, {"median", r.total.median_ms / c.y_ms}}},
+        {"segmentation", r.segmentation},
+        {"mean_mask_age", r.mean_mask_age}};
     if (r.has_ground_truth) {
       j["ate_m"] = stats_json(r.ate);
       j["rpe_trans_m_per_s"] = stats_json(r.rpe_trans);
@@ -237,7 +241,8 @@ int main(int argc, char** argv) {
     if (base != cells.end() && c.mode != "static" && r.has_ground_truth)
       j["eta_percent"] = {
           {"ate_rmse", lrd::eval::improvement_percent(base->second.report.ate.rmse, r.ate.rmse)},
-          {"rpe_trans_rmse", lrd::eval::improvement_percent(base->second.report.rpe_trans.rmse, r.rpe_trans.rmse)},
+          {"rpe_trans_rmse",
+           lrd::eval::improvement_percent(base->second.report.rpe_trans.rmse, r.rpe_trans.rmse)},
           {"rpe_rot_rmse", lrd::eval::improvement_percent(base->second.report.rpe_rot.rmse, r.rpe_rot.rmse)}};
     js["runs"].push_back(j);
   }

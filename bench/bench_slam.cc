@@ -30,8 +30,8 @@ using lrd::bench::ensure_sequence;
 
 int main(int argc, char** argv) {
   CLI::App app{"SLAM core benchmark: accuracy and time per frame on synthetic presets"};
-  std::vector<std::string> presets{"static_xyz",   "static_halfsphere",  "static_loop", "walking_static",
-                                   "walking_xyz",  "walking_rpy",        "walking_halfsphere"};
+  std::vector<std::string> presets{"static_xyz",  "static_halfsphere", "static_loop",       "walking_static",
+                                   "walking_xyz", "walking_rpy",       "walking_halfsphere"};
   std::string cache = "out/bench/sequences", markdown;
   int frames = -1;
   bool deterministic = false, loop_closing = false;
@@ -43,14 +43,16 @@ int main(int argc, char** argv) {
   app.add_flag("--deterministic", deterministic, "Lock-step local mapping");
   app.add_flag("--loop-closing", loop_closing,
                "Run with loop closing (off: the SLAM core's bars are without it)");
-  app.add_option("--mode", mode, "Dynamic-scene mode (default static: the SLAM core alone, the ORB-SLAM2 row)");
+  app.add_option("--mode", mode,
+                 "Dynamic-scene mode (default static: the SLAM core alone, the ORB-SLAM2 row)");
   CLI11_PARSE(app, argc, argv);
 
   std::ostringstream md;
-  md << "| preset | frames | lost | KFs | ATE RMSE (cm) | RPE (cm/s, deg/s) | extraction | tracking | waiting | "
+  md << "| preset | frames | lost | KFs | ATE RMSE (cm) | RPE (cm/s, deg/s) | extraction | tracking | "
+        "waiting | "
         "total median | total / Y | Y (ms) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  std::printf("%-19s %6s %5s %4s %9s %16s %10s %9s %8s %12s %9s %7s\n", "preset", "frames", "lost", "KFs", "ATE cm",
-              "RPE cm/s deg/s", "extract ms", "track ms", "wait ms", "total ms", "total/Y", "Y ms");
+  std::printf("%-19s %6s %5s %4s %9s %16s %10s %9s %8s %12s %9s %7s\n", "preset", "frames", "lost", "KFs",
+              "ATE cm", "RPE cm/s deg/s", "extract ms", "track ms", "wait ms", "total ms", "total/Y", "Y ms");
   for (const std::string& preset : presets) {
     const fs::path dir = ensure_sequence(cache, preset, frames);
     const double y = lrd::bench::sequence_yardstick_ms(dir);
@@ -64,13 +66,15 @@ int main(int argc, char** argv) {
     o.preload = true;
     const lrd::runner::RunReport r = lrd::runner::run_sequence(o);
     const std::string rpe = fmt::format("{:.2f} {:.2f}", 100 * r.rpe_trans_rmse, r.rpe_rot_rmse);
-    std::printf("%-19s %6zu %5zu %4zu %9.2f %16s %10.1f %9.1f %8.1f %12.1f %9.2f %7.1f\n", preset.c_str(), r.frames,
-                r.lost, r.map.keyframes, 100 * r.ate_rmse, rpe.c_str(), r.extraction.median_ms,
+    std::printf("%-19s %6zu %5zu %4zu %9.2f %16s %10.1f %9.1f %8.1f %12.1f %9.2f %7.1f\n", preset.c_str(),
+                r.frames, r.lost, r.map.keyframes, 100 * r.ate_rmse, rpe.c_str(), r.extraction.median_ms,
                 r.tracking.median_ms, r.waiting.median_ms, r.total.median_ms, r.total.median_ms / y, y);
     std::fflush(stdout);
-    md << fmt::format("| {} | {} | {} | {} | {:.2f} | {} | {:.1f} ms | {:.1f} ms | {:.1f} ms | {:.1f} ms | {:.2f} Y | {:.1f} |\n",
-                      preset, r.frames, r.lost, r.map.keyframes, 100 * r.ate_rmse, rpe, r.extraction.median_ms,
-                      r.tracking.median_ms, r.waiting.median_ms, r.total.median_ms, r.total.median_ms / y, y);
+    md << fmt::format(
+        "| {} | {} | {} | {} | {:.2f} | {} | {:.1f} ms | {:.1f} ms | {:.1f} ms | {:.1f} ms | {:.2f} Y | "
+        "{:.1f} |\n",
+        preset, r.frames, r.lost, r.map.keyframes, 100 * r.ate_rmse, rpe, r.extraction.median_ms,
+        r.tracking.median_ms, r.waiting.median_ms, r.total.median_ms, r.total.median_ms / y, y);
   }
   std::printf("frames decoded before tracking; loop closing %s; bar: total median <= 2 Y\n",
               loop_closing ? "on" : "off");

@@ -7,16 +7,17 @@
 #include <chrono>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
-#include <vector>
-
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "bench/yardstick.h"
 #include "lrd/synth/sequence_writer.h"
 #include "lrd/synth/synthetic_sequence.h"
 
 namespace {
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -34,7 +35,8 @@ int main(int argc, char** argv) {
     const auto f = seq.render(i * std::max(1, frames / 30));
     const double t1 = now();
     std::vector<uchar> buf;
-    for (const cv::Mat* m : {&f.rgb, &f.depth, &f.mask, &f.static_rgb, &f.static_depth}) cv::imencode(".png", *m, buf);
+    for (const cv::Mat* m : {&f.rgb, &f.depth, &f.mask, &f.static_rgb, &f.static_depth})
+      cv::imencode(".png", *m, buf);
     const double t2 = now();
     render_ms.push_back(1e3 * (t1 - t0));
     grey.emplace_back();
@@ -44,14 +46,16 @@ int main(int argc, char** argv) {
   const double y = lrd::bench::yardstick_ms(grey);
   const double render = lrd::bench::median_of(render_ms), encode = lrd::bench::median_of(encode_ms);
   fmt::print("Y (median OpenCV ORB 1000/1.2/8 detectAndCompute on these frames): {:.1f} ms\n", y);
-  fmt::print("{}: single thread, median per frame: render {:.1f} ms ({:.2f} Y), PNG encode of 5 images {:.1f} ms "
-             "({:.2f} Y)\n", preset, render, render / y, encode, encode / y);
+  fmt::print(
+      "{}: single thread, median per frame: render {:.1f} ms ({:.2f} Y), PNG encode of 5 images {:.1f} ms "
+      "({:.2f} Y)\n",
+      preset, render, render / y, encode, encode / y);
 
   const auto out = std::filesystem::temp_directory_path() / fmt::format("lrd_bench_synth_{}", preset);
   std::filesystem::remove_all(out);
   const auto s = lrd::synth::write_sequence(seq, out);
   std::filesystem::remove_all(out);
-  fmt::print("{}: {} frames written in {:.1f} s ({:.1f} frames/s, {:.2f} s per 900 frames; bar: < 60 s)\n", preset,
-             s.frames, s.seconds, s.frames / s.seconds, 900.0 * s.seconds / s.frames);
+  fmt::print("{}: {} frames written in {:.1f} s ({:.1f} frames/s, {:.2f} s per 900 frames; bar: < 60 s)\n",
+             preset, s.frames, s.seconds, s.frames / s.seconds, 900.0 * s.seconds / s.frames);
   return 0;
 }

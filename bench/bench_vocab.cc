@@ -1,8 +1,8 @@
 // Bag-of-words vocabulary costs against the yardstick Y (median cv::ORB 1000/1.2/8
 // detectAndCompute on the same frames): the file's size, its load time (the process's first load,
 // then the median of 5), the time to turn one frame's ~1000 ORB descriptors into a BoW vector
-// (with and without the direct index at data::Frame::kBowLevelsUp, as SLAM uses it), and the time to score two BoW vectors.
-// Usage: bench_vocab [VOCAB_FILE]   (default: vocab/orb_vocab.lrdv of the project)
+// (with and without the direct index at data::Frame::kBowLevelsUp, as SLAM uses it), and the time to score
+// two BoW vectors. Usage: bench_vocab [VOCAB_FILE]   (default: vocab/orb_vocab.lrdv of the project)
 #include <fmt/format.h>
 
 #include <chrono>
@@ -42,8 +42,7 @@ double median_ms(int reps, F&& f) {
 
 int main(int argc, char** argv) {
   namespace fs = std::filesystem;
-  const fs::path file =
-      argc > 1 ? fs::path(argv[1]) : lrd::util::find_project_file("vocab/orb_vocab.lrdv");
+  const fs::path file = argc > 1 ? fs::path(argv[1]) : lrd::util::find_project_file("vocab/orb_vocab.lrdv");
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) {
     fmt::print(stderr, "{}: no vocabulary file (train one: lrdslam vocab train --images DIR --out FILE)\n",
@@ -77,7 +76,8 @@ int main(int argc, char** argv) {
     lrd::place::BowVector bow, bow_b;
     lrd::place::FeatureVector fv;
     vocab.transform(b, bow_b);
-    const double with_fv = median_ms(50, [&] { vocab.transform(a, bow, fv, lrd::data::Frame::kBowLevelsUp); });
+    const double with_fv =
+        median_ms(50, [&] { vocab.transform(a, bow, fv, lrd::data::Frame::kBowLevelsUp); });
     const double bow_only = median_ms(50, [&] { vocab.transform(a, bow); });
     double sink = 0.0;
     const double score = median_ms(200, [&] { sink += lrd::place::Vocabulary::score(bow, bow_b); });

@@ -21,7 +21,8 @@ inline std::filesystem::path ensure_sequence(const std::filesystem::path& cache,
                                              int frames) {
   const std::filesystem::path dir = cache / (frames > 0 ? fmt::format("{}_{}", preset, frames) : preset);
   // scene.ply came later than the first cached sequences: those are rendered again.
-  if (std::filesystem::exists(dir / "associations.txt") && std::filesystem::exists(dir / "scene.ply")) return dir;
+  if (std::filesystem::exists(dir / "associations.txt") && std::filesystem::exists(dir / "scene.ply"))
+    return dir;
   std::fprintf(stderr, "generating %s into %s ...\n", preset.c_str(), dir.string().c_str());
   lrd::synth::SynthOptions o;
   o.preset = preset;

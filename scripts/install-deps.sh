@@ -6,6 +6,8 @@ set -euo pipefail
 PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config git
+  clang-format-14  # the format check (scripts/check-format.sh, a ctest test)
+  graphviz         # docs/architecture: the picture from its text source
   # libraries
   libopencv-dev libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev

@@ -2,11 +2,10 @@
 //   minimal_slam SEQUENCE_DIR OUT_TRAJECTORY
 #include <cstdio>
 #include <exception>
+#include <opencv2/imgproc.hpp>
 
 #include "lrd/io/tum_sequence.h"
 #include "lrd/system.h"
-
-#include <opencv2/imgproc.hpp>
 
 int main(int argc, char** argv) {
   if (argc != 3) {

@@ -50,7 +50,8 @@ Pipeline::Pipeline(const config::Config& cfg, const SystemParams& p, bool determ
     dense->set_update_callback([this](double timestamp, std::size_t keyframes) {
       if (!publisher_.has_subscribers()) return;
       const dense::RepairTotals totals = dense->repair_totals();
-      publisher_.publish(events::DenseMapUpdated{timestamp, keyframes, totals.dynamic_pixels, totals.filled_pixels});
+      publisher_.publish(
+          events::DenseMapUpdated{timestamp, keyframes, totals.dynamic_pixels, totals.filled_pixels});
     });
   }
 }
@@ -79,11 +80,17 @@ void Pipeline::publish_map_changed(std::uint64_t keyframe_id) {
 
 void Pipeline::publish_loop(const loop::LoopEvent& loop) {
   if (!publisher_.has_subscribers()) return;
-  events::LoopClosed e{loop.frame_id, loop.timestamp, loop.keyframe_id, loop.loop_keyframe_id,
-                       loop.inliers, loop.correction_m, {}};
+  events::LoopClosed e{loop.frame_id,
+                       loop.timestamp,
+                       loop.keyframe_id,
+                       loop.loop_keyframe_id,
+                       loop.inliers,
+                       loop.correction_m,
+                       {}};
   {
     std::lock_guard lock(map.mutex());
-    for (const map::KeyFrame* kf : map.keyframes()) e.corrected.push_back({kf->id(), kf->timestamp(), kf->T_wc()});
+    for (const map::KeyFrame* kf : map.keyframes())
+      e.corrected.push_back({kf->id(), kf->timestamp(), kf->T_wc()});
   }
   publisher_.publish(std::move(e));
 }

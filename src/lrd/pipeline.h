@@ -18,9 +18,9 @@
 #include "lrd/features/keypoint_undistorter.h"
 #include "lrd/features/orb_extractor.h"
 #include "lrd/loop/loop_closer.h"
+#include "lrd/map/keyframe_database.h"
 #include "lrd/map/map.h"
 #include "lrd/mapping/local_mapper.h"
-#include "lrd/place/keyframe_database.h"
 #include "lrd/place/vocabulary.h"
 #include "lrd/system_params.h"
 #include "lrd/tracking/tracker.h"
@@ -30,7 +30,8 @@ namespace lrd {
 
 struct Pipeline {
   Pipeline(const config::Config& config, const SystemParams& params, bool deterministic,
-           const place::Vocabulary* vocabulary, util::ThreadErrors& errors, events::EventPublisher& publisher);
+           const place::Vocabulary* vocabulary, util::ThreadErrors& errors,
+           events::EventPublisher& publisher);
   ~Pipeline();
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
@@ -45,7 +46,7 @@ struct Pipeline {
   features::KeypointUndistorter undistorter;
   dynamic::DynamicFrontEnd front_end;
   map::Map map;
-  place::KeyFrameDatabase database;
+  map::KeyFrameDatabase database;
   mapping::LocalMapper mapper;
   tracking::Tracker tracker;
   std::unique_ptr<loop::LoopCloser> loop_closer;  // after `mapper`: destroyed first

@@ -1,18 +1,18 @@
 #include "lrd/system.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <chrono>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
-#include <spdlog/spdlog.h>
 
 #include "lrd/data/frame.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map_point.h"
-#include "lrd/pipeline.h"
+#include "lrd/system_impl.h"
 #include "lrd/util/error.h"
 #include "lrd/util/project_files.h"
 
@@ -20,9 +20,13 @@ namespace lrd {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+double seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
 
-std::string describe(const cv::Mat& m) { return fmt::format("{}x{} {}", m.cols, m.rows, cv::typeToString(m.type())); }
+std::string describe(const cv::Mat& m) {
+  return fmt::format("{}x{} {}", m.cols, m.rows, cv::typeToString(m.type()));
+}
 
 // Vocabularies are shared between systems of one process (tests and benchmarks build many).
 std::shared_ptr<const place::Vocabulary> load_vocabulary(const std::filesystem::path& file) {
@@ -38,52 +42,28 @@ std::shared_ptr<const place::Vocabulary> load_vocabulary(const std::filesystem::
 
 constexpr const char* kShippedVocabulary = "vocab/orb_vocab.lrdv";
 
-std::vector<cv::Point2f> points_of(const std::vector<cv::KeyPoint>& keypoints) {
-  std::vector<cv::Point2f> out;
-  out.reserve(keypoints.size());
-  for (const cv::KeyPoint& k : keypoints) out.push_back(k.pt);
-  return out;
-}
 }  // namespace
 
-struct System::Impl {
-  Impl(const config::Config& cfg, SystemParams p, SystemOptions opts)
-      : config(cfg), params(std::move(p)), options(opts), publisher(errors, opts.max_queued_frame_events) {
-    // The shipped vocabulary is optional (a library user may run without it); a configured one
-    // must load.
-    const std::filesystem::path& configured = params.loop_closing.vocabulary;
-    vocabulary_file = configured.empty() ? util::find_project_file(kShippedVocabulary) : configured;
-    if (!configured.empty() || std::filesystem::exists(vocabulary_file)) {
-      vocabulary = load_vocabulary(vocabulary_file);
-    } else {
-      spdlog::warn("no vocabulary at {}: no relocalization or loop closing", vocabulary_file.string());
-      vocabulary_file.clear();
-    }
-    start_pipeline();
+System::Impl::Impl(const config::Config& cfg, SystemParams p, SystemOptions opts)
+    : config(cfg), params(std::move(p)), options(opts), publisher(errors, opts.max_queued_frame_events) {
+  // The shipped vocabulary is optional (a library user may run without it); a configured one
+  // must load.
+  const std::filesystem::path& configured = params.loop_closing.vocabulary;
+  vocabulary_file = configured.empty() ? util::find_project_file(kShippedVocabulary) : configured;
+  if (!configured.empty() || std::filesystem::exists(vocabulary_file)) {
+    vocabulary = load_vocabulary(vocabulary_file);
+  } else {
+    spdlog::warn("no vocabulary at {}: no relocalization or loop closing", vocabulary_file.string());
+    vocabulary_file.clear();
   }
+  start_pipeline();
+}
 
-  void start_pipeline() {
-    pipe = std::make_unique<Pipeline>(config, params, options.deterministic, vocabulary.get(), errors, publisher);
-    if (repair_callback && pipe->dense) pipe->dense->set_repair_callback(repair_callback);
-  }
-
-  TrackResult track(const cv::Mat& rgb, const cv::Mat& depth, double timestamp, const cv::Mat& mask);
-  void publish_frame(const TrackResult& r, const tracking::TrackOutcome& outcome, const data::Frame& frame,
-                     const cv::Mat& grey, bool grey_shared);
-
-  config::Config config;
-  SystemParams params;
-  SystemOptions options;
-  std::filesystem::path vocabulary_file;
-  std::shared_ptr<const place::Vocabulary> vocabulary;
-  util::ThreadErrors errors;
-  events::EventPublisher publisher;  // before `pipe`: its threads publish until they stop
-  dense::DenseMapper::RepairCallback repair_callback;
-  std::unique_ptr<Pipeline> pipe;
-  std::uint64_t next_frame_id = 0;
-  double last_timestamp = -std::numeric_limits<double>::infinity();
-  bool shut_down = false;
-};
+void System::Impl::start_pipeline() {
+  pipe =
+      std::make_unique<Pipeline>(config, params, options.deterministic, vocabulary.get(), errors, publisher);
+  if (repair_callback && pipe->dense) pipe->dense->set_repair_callback(repair_callback);
+}
 
 System::System(const config::Config& config, SystemOptions options)
     : System(config, SystemParams::from_config(config, options), options) {}
@@ -102,6 +82,17 @@ System::~System() {
 void System::shutdown() {
   if (impl_->shut_down) return;
   impl_->shut_down = true;
+  if (!impl_->failure.empty()) {
+    // track_rgbd already threw the error that stopped the system: stop the rest quietly (what
+    // else fails now follows from it).
+    try {
+      impl_->pipe->shutdown();
+    } catch (const std::exception& e) {
+      spdlog::debug("shutdown after '{}': {}", impl_->failure, e.what());
+    }
+    impl_->publisher.shutdown();
+    return;
+  }
   std::exception_ptr stage_error;
   try {
     impl_->pipe->shutdown();
@@ -109,7 +100,8 @@ void System::shutdown() {
     stage_error = std::current_exception();
   }
   impl_->publisher.shutdown();
-  impl_->errors.rethrow();  // a thread's first error comes first
+  // A thread's first error is the one to report (a stage's shutdown error then follows from it).
+  impl_->errors.rethrow();
   if (stage_error) std::rethrow_exception(stage_error);
 }
 
@@ -123,19 +115,33 @@ void System::reset() {
   s.last_timestamp = -std::numeric_limits<double>::infinity();
 }
 
-void System::subscribe(std::shared_ptr<events::Subscriber> subscriber) { impl_->publisher.subscribe(std::move(subscriber)); }
+void System::subscribe(std::shared_ptr<events::Subscriber> subscriber) {
+  impl_->publisher.subscribe(std::move(subscriber));
+}
 
-events::PublisherStats System::publisher_stats() const { return impl_->publisher.stats(); }
+events::PublisherStats System::publisher_stats() const {
+  return impl_->publisher.stats();
+}
 
-const config::Config& System::config() const { return impl_->config; }
+const config::Config& System::config() const {
+  return impl_->config;
+}
 
-dynamic::DynamicMode System::mode() const { return impl_->params.dynamic.mode; }
+dynamic::DynamicMode System::mode() const {
+  return impl_->params.dynamic.mode;
+}
 
-std::string System::segmentation_description() const { return impl_->pipe->front_end.segmentation_description(); }
+std::string System::segmentation_description() const {
+  return impl_->pipe->front_end.segmentation_description();
+}
 
-bool System::dense_enabled() const { return impl_->pipe->dense != nullptr; }
+bool System::dense_enabled() const {
+  return impl_->pipe->dense != nullptr;
+}
 
-dense::PointCloud System::dense_map() const { return impl_->pipe->dense ? impl_->pipe->dense->cloud() : dense::PointCloud{}; }
+dense::PointCloud System::dense_map() const {
+  return impl_->pipe->dense ? impl_->pipe->dense->cloud() : dense::PointCloud{};
+}
 
 dense::RepairTotals System::repair_totals() const {
   return impl_->pipe->dense ? impl_->pipe->dense->repair_totals() : dense::RepairTotals{};
@@ -151,10 +157,15 @@ TrackingState System::state() const {
   return impl_->pipe->tracker.state();
 }
 
-TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double timestamp, const cv::Mat& mask) {
+TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double timestamp,
+                               const cv::Mat& mask) {
   Impl& s = *impl_;
   if (s.shut_down) throw Error("track_rgbd: the system has been shut down");
-  s.errors.rethrow();
+  if (!s.failure.empty()) throw Error(s.failure);
+  if (s.errors.has_error()) {
+    s.failure = s.errors.message();
+    throw Error(s.failure);
+  }
   const camera::PinholeCamera& cam = s.config.camera;
   if (rgb.empty() || (rgb.type() != CV_8UC3 && rgb.type() != CV_8UC1))
     throw Error(fmt::format("track_rgbd: colour image must be CV_8UC3 or CV_8UC1, got {}", describe(rgb)));
@@ -162,18 +173,27 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
     throw Error(fmt::format("track_rgbd: colour image is {}x{}, the camera '{}' is {}x{}", rgb.cols, rgb.rows,
                             cam.name, cam.width, cam.height));
   if (depth.size() != rgb.size() || (depth.type() != CV_16UC1 && depth.type() != CV_32FC1))
-    throw Error(fmt::format("track_rgbd: depth must be CV_16UC1 or CV_32FC1 of the colour image's size, got {}",
-                            describe(depth)));
+    throw Error(
+        fmt::format("track_rgbd: depth must be CV_16UC1 or CV_32FC1 of the colour image's size, got {}",
+                    describe(depth)));
   if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != rgb.size()))
-    throw Error(fmt::format("track_rgbd: mask must be CV_8UC1 of the colour image's size, got {}", describe(mask)));
+    throw Error(
+        fmt::format("track_rgbd: mask must be CV_8UC1 of the colour image's size, got {}", describe(mask)));
   if (!(timestamp > s.last_timestamp))
     throw Error(fmt::format("track_rgbd: timestamp {:.6f} does not increase (previous {:.6f})", timestamp,
                             s.last_timestamp));
   s.last_timestamp = timestamp;
-  return s.track(rgb, depth, timestamp, mask);
+  try {
+    return s.track(rgb, depth, timestamp, mask);
+  } catch (const std::exception& e) {
+    // A stage failed in this thread (segmentation's result, a lock-step stage): the system stops.
+    s.failure = e.what();
+    throw;
+  }
 }
 
-TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double timestamp, const cv::Mat& mask) {
+TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double timestamp,
+                                const cv::Mat& mask) {
   Pipeline& p = *pipe;
   const camera::PinholeCamera& cam = config.camera;
   TrackResult result;
@@ -182,11 +202,15 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
   // The network starts on this frame now and runs while the features are found (Fig. 1).
   p.front_end.submit(id, timestamp, rgb);
   cv::Mat grey;
-  if (rgb.channels() == 3) cv::cvtColor(rgb, grey, cam.rgb_order ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
-  else grey = rgb;
+  if (rgb.channels() == 3)
+    cv::cvtColor(rgb, grey, cam.rgb_order ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
+  else
+    grey = rgb;
   cv::Mat depth_m;
-  if (depth.type() == CV_16UC1) depth.convertTo(depth_m, CV_32F, 1.0 / cam.depth_map_factor);
-  else depth_m = depth;
+  if (depth.type() == CV_16UC1)
+    depth.convertTo(depth_m, CV_32F, 1.0 / cam.depth_map_factor);
+  else
+    depth_m = depth;
   // The front end keeps the depth of recent frames: its own copy, not the caller's buffer.
   const bool keeps_depth = p.front_end.uses_segmentation() && depth.type() == CV_32FC1;
   cv::Mat dynamic_mask = mask;
@@ -218,9 +242,12 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
   // A new keyframe goes to the dense stage with its images.
   if (p.dense && outcome.new_keyframe != nullptr) {
     cv::Mat bgr;
-    if (rgb.channels() == 1) cv::cvtColor(rgb, bgr, cv::COLOR_GRAY2BGR);
-    else if (cam.rgb_order) cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-    else bgr = rgb.clone();
+    if (rgb.channels() == 1)
+      cv::cvtColor(rgb, bgr, cv::COLOR_GRAY2BGR);
+    else if (cam.rgb_order)
+      cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+    else
+      bgr = rgb.clone();
     p.dense->add_keyframe(outcome.new_keyframe, std::move(bgr),
                           depth.type() == CV_32FC1 ? depth_m.clone() : depth_m,
                           frame.dynamic_mask.empty() ? cv::Mat() : frame.dynamic_mask.clone());
@@ -244,113 +271,5 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
   if (publisher.has_subscribers()) publish_frame(result, outcome, frame, grey, rgb.channels() == 1);
   return result;
 }
-
-void System::Impl::publish_frame(const TrackResult& r, const tracking::TrackOutcome& outcome,
-                                 const data::Frame& frame, const cv::Mat& grey, bool grey_shared) {
-  if (outcome.new_keyframe != nullptr) {
-    const map::KeyFrame* kf = outcome.new_keyframe;
-    std::lock_guard lock(pipe->map.mutex());
-    publisher.publish(
-        events::KeyframeInserted{kf->id(), frame.id(), frame.timestamp(), kf->T_wc(),
-                                                   static_cast<std::size_t>(kf->tracked_map_points(1))});
-  }
-  events::FrameTracked e;
-  e.frame_id = frame.id();
-  e.timestamp = frame.timestamp();
-  e.state = r.state;
-  e.T_wc = r.T_wc;
-  e.timing = r.timing;
-  e.inliers = r.inliers;
-  e.mask_frame = r.dynamic.mask_frame;
-  e.mask_age = r.dynamic.mask_age;
-  e.geometric_keypoints = r.dynamic.geometric_keypoints;
-  e.relocalized = outcome.relocalized;
-  if (outcome.new_keyframe != nullptr) e.new_keyframe = outcome.new_keyframe->id();
-  e.grey = grey_shared ? grey.clone() : grey;  // the caller may reuse its buffer
-  e.mask = r.dynamic.mask.empty() ? cv::Mat() : r.dynamic.mask.clone();
-  e.kept_keypoints = points_of(frame.keypoints());
-  e.removed_keypoints = points_of(frame.removed_keypoints);
-  publisher.publish(std::move(e));
-}
-
-io::Trajectory System::trajectory() const {
-  std::lock_guard lock(impl_->pipe->map.mutex());
-  io::Trajectory out;
-  const tracking::FrameRecord* previous = nullptr;
-  for (const tracking::FrameRecord& r : impl_->pipe->tracker.records()) {
-    if (r.state != TrackingState::Ok || r.reference == nullptr) continue;
-    out.push_back({r.timestamp, map::resolve_pose(r.reference, r.T_c_ref).inverse()});
-    // Tripwire for a rare divergence seen once in a threaded static-mode run (one frame tens of
-    // km off, its neighbours fine; not reproduced in 100 reruns): a camera does not move metres
-    // between two consecutive frames (a relocalization after lost frames may, and is not checked).
-    // Logged with what resolved the pose, for the report.
-    if (previous != nullptr && r.frame_id == previous->frame_id + 1) {
-      const double jump = (out.back().pose.translation() - out[out.size() - 2].pose.translation()).norm();
-      if (jump > 5.0)
-        spdlog::warn("trajectory: frame {} is {:.3g} m from frame {} ({:.3f} s before); reference keyframe {}{}, "
-                     "{:.3g} m from it, {} inliers - a tracking or map error, please report it with this log",
-                     r.frame_id, jump, previous->frame_id, r.timestamp - previous->timestamp, r.reference->id(),
-                     r.reference->is_bad() ? " (culled)" : "", r.T_c_ref.translation().norm(), r.inliers);
-    }
-    previous = &r;
-  }
-  return out;
-}
-
-io::Trajectory System::keyframe_trajectory() const {
-  std::lock_guard lock(impl_->pipe->map.mutex());
-  io::Trajectory out;
-  for (const map::KeyFrame* kf : impl_->pipe->map.keyframes()) out.push_back({kf->timestamp(), kf->T_wc()});
-  return out;
-}
-
-void System::save_trajectory_tum(const std::filesystem::path& file) const { io::write_trajectory_tum(file, trajectory()); }
-
-void System::save_keyframe_trajectory_tum(const std::filesystem::path& file) const {
-  io::write_trajectory_tum(file, keyframe_trajectory());
-}
-
-MapStats System::map_stats() const {
-  MapStats m;
-  {
-    std::lock_guard lock(impl_->pipe->map.mutex());
-    m.keyframes = impl_->pipe->map.keyframe_count();
-    m.map_points = impl_->pipe->map.map_point_count();
-  }
-  const auto ms = impl_->pipe->mapper.stats();
-  m.culled_keyframes = ms.culled_keyframes;
-  m.bundle_adjustments = ms.bundle_adjustments;
-  if (impl_->pipe->loop_closer) {
-    const auto ls = impl_->pipe->loop_closer->stats();
-    m.loops = ls.loops.size();
-    m.global_bundle_adjustments = ls.global_bundle_adjustments;
-  }
-  {
-    std::lock_guard lock(impl_->pipe->map.mutex());
-    m.relocalizations = impl_->pipe->tracker.relocalizations();
-  }
-  return m;
-}
-
-std::vector<loop::LoopEvent> System::loops() const {
-  return impl_->pipe->loop_closer ? impl_->pipe->loop_closer->stats().loops : std::vector<loop::LoopEvent>{};
-}
-
-events::MapSnapshot System::map_snapshot() const {
-  events::MapSnapshot out;
-  std::lock_guard lock(impl_->pipe->map.mutex());
-  for (const map::KeyFrame* kf : impl_->pipe->map.keyframes()) out.keyframes.push_back({kf->id(), kf->timestamp(), kf->T_wc()});
-  for (const map::MapPoint* mp : impl_->pipe->map.map_points()) {
-    if (mp->is_bad()) continue;
-    events::MapPointSnapshot p{mp->id(), mp->position(), {}};
-    for (const auto& [kf, index] : mp->observations()) p.keyframes.push_back(kf->id());
-    out.points.push_back(std::move(p));
-  }
-  return out;
-}
-
-bool System::loop_closing_enabled() const { return impl_->pipe->loop_closer != nullptr; }
-
-std::filesystem::path System::vocabulary_file() const { return impl_->vocabulary_file; }
 
 }  // namespace lrd

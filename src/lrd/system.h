@@ -12,8 +12,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
-#include <optional>
 #include <opencv2/core.hpp>
+#include <optional>
 
 #include "lrd/config/config.h"
 #include "lrd/dense/dense_mapper.h"
@@ -55,8 +55,8 @@ struct MapStats {
   std::size_t map_points = 0;
   std::size_t culled_keyframes = 0;
   std::size_t bundle_adjustments = 0;
-  std::size_t loops = 0;           // loops closed
-  int relocalizations = 0;         // times tracking was lost and relocalized
+  std::size_t loops = 0;    // loops closed
+  int relocalizations = 0;  // times tracking was lost and relocalized
   int global_bundle_adjustments = 0;
 };
 
@@ -75,7 +75,8 @@ class System {
   // (divided by depth_map_factor) or CV_32FC1 metres, same size, registered to the colour image;
   // mask (optional): CV_8UC1, nonzero = dynamic, no features there. Throws lrd::Error for images
   // of the wrong type or size; timestamps must increase.
-  TrackResult track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double timestamp, const cv::Mat& mask = {});
+  TrackResult track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double timestamp,
+                         const cv::Mat& mask = {});
 
   // Finishes local mapping, loop closing and the dense map on the queued keyframes, delivers the
   // queued events and joins every thread. Idempotent; called by the destructor. Throws the first

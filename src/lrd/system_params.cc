@@ -8,7 +8,8 @@ SystemParams SystemParams::from_config(const config::Config& cfg, const SystemOp
   p.tracking = tracking::TrackerParams::from_config(cfg.tracking);
   p.mapping = mapping::LocalMapperParams::from_config(cfg.mapping);
   p.dynamic = dynamic::DynamicParams::from_config(cfg.dynamic);
-  p.segmentation = o.segmentation ? *o.segmentation : segmentation::SegmentationParams::from_config(cfg.segmentation, base);
+  p.segmentation = o.segmentation ? *o.segmentation
+                                  : segmentation::SegmentationParams::from_config(cfg.segmentation, base);
   p.loop_closing = loop::LoopClosingParams::from_config(cfg.loop_closing, base);
   p.dense = dense::DenseParams::from_config(cfg.dense);
   if (o.mode) p.dynamic.mode = *o.mode;

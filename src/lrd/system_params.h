@@ -42,7 +42,8 @@ struct SystemParams {
   dense::DenseParams dense;
 
   // Reads every section of `config` once, then applies `options`' overrides.
-  [[nodiscard]] static SystemParams from_config(const config::Config& config, const SystemOptions& options = {});
+  [[nodiscard]] static SystemParams from_config(const config::Config& config,
+                                                const SystemOptions& options = {});
 };
 
 }  // namespace lrd

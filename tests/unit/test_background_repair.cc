@@ -32,12 +32,13 @@ RgbdView view_of(const lrd::synth::SynthFrame& f, double factor) {
 }
 
 struct Walking {
-  Walking() : seq([] {
-    lrd::synth::SynthOptions o;
-    o.preset = "walking_xyz";
-    o.frames = 60;
-    return o;
-  }()) {}
+  Walking()
+      : seq([] {
+          lrd::synth::SynthOptions o;
+          o.preset = "walking_xyz";
+          o.frames = 60;
+          return o;
+        }()) {}
   lrd::synth::SyntheticSequence seq;
 };
 
@@ -125,22 +126,26 @@ TEST(PlyIo, BinaryRoundTripAndClearErrors) {
   EXPECT_EQ(back.points[1], c.points[1]);
   EXPECT_EQ(back.colours[1], c.colours[1]);
   // ASCII with doubles and an extra property, as other tools write.
-  const auto ascii = tmp.write("b.ply",
-                               "ply\nformat ascii 1.0\nelement vertex 1\nproperty double x\nproperty double y\n"
-                               "property double z\nproperty float nx\nend_header\n0.5 1.5 2.5 1\n");
+  const auto ascii =
+      tmp.write("b.ply",
+                "ply\nformat ascii 1.0\nelement vertex 1\nproperty double x\nproperty double y\n"
+                "property double z\nproperty float nx\nend_header\n0.5 1.5 2.5 1\n");
   const auto a = lrd::dense::read_ply(ascii);
   ASSERT_EQ(a.size(), 1u);
   EXPECT_FLOAT_EQ(a.points[0].y(), 1.5f);
   EXPECT_TRUE(a.colours.empty());
   // Malformed headers: a clear error naming the file, never a huge allocation or an empty cloud.
   for (const auto& [name, text, words] : std::vector<std::tuple<std::string, std::string, std::string>>{
-           {"neg.ply", "ply\nformat ascii 1.0\nelement vertex -1\nproperty float x\nend_header\n", "bad element"},
+           {"neg.ply", "ply\nformat ascii 1.0\nelement vertex -1\nproperty float x\nend_header\n",
+            "bad element"},
            {"huge.ply",
-            "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+            "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty "
+            "float y\n"
             "property float z\nend_header\n",
             "truncated"},
            {"novertex.ply", "ply\nformat ascii 1.0\nelement face 0\nend_header\n", "no vertex element"},
-           {"big.ply", "ply\nformat binary_big_endian 1.0\nelement vertex 1\nend_header\n", "binary_big_endian"}}) {
+           {"big.ply", "ply\nformat binary_big_endian 1.0\nelement vertex 1\nend_header\n",
+            "binary_big_endian"}}) {
     const auto file = tmp.write(name, text);
     try {
       (void)lrd::dense::read_ply(file);
@@ -150,8 +155,10 @@ TEST(PlyIo, BinaryRoundTripAndClearErrors) {
       EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
     }
   }
-  const auto truncated = tmp.write("c.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\n"
-                                            "property float y\nproperty float z\nend_header\n");
+  const auto truncated =
+      tmp.write("c.ply",
+                "ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\n"
+                "property float y\nproperty float z\nend_header\n");
   try {
     (void)lrd::dense::read_ply(truncated);
     FAIL() << "truncated file accepted";
@@ -177,8 +184,8 @@ TEST(FreeSpaceCheck, ViewsThatSeeThroughAPointVoteAgainstIt) {
     const Eigen::Vector3d c = T_cw_cloud * world;
     return c.cast<float>();
   };
-  cloud.points = {in_cloud_frame({0.5, 0.0, 1.5}),    // floating in front of the wall, right half: seen through
-                  in_cloud_frame({0.5, 0.0, 3.0}),    // on the wall
+  cloud.points = {in_cloud_frame({0.5, 0.0, 1.5}),  // floating in front of the wall, right half: seen through
+                  in_cloud_frame({0.5, 0.0, 3.0}),  // on the wall
                   in_cloud_frame({-0.5, 0.0, 1.5}),   // in front, but where the view is dynamic: no judgement
                   in_cloud_frame({0.5, 0.0, 2.9}),    // within the margin of the wall
                   in_cloud_frame({0.5, 0.0, -1.0})};  // behind the view

@@ -9,8 +9,8 @@
 #include "lrd/config/config.h"
 #include "lrd/dense/dense_params.h"
 #include "lrd/dynamic/dynamic_params.h"
-#include "lrd/segmentation/segmentation_params.h"
 #include "lrd/mapping/local_mapper.h"
+#include "lrd/segmentation/segmentation_params.h"
 #include "lrd/tracking/tracker.h"
 #include "lrd/util/error.h"
 #include "temp_dir.h"
@@ -62,7 +62,7 @@ TEST_F(ConfigTest, ShippedDefaultConfigLoadsWithDefaults) {
   EXPECT_EQ(cfg.features.min_th_fast, orb.min_th_fast);
   EXPECT_EQ(cfg.output.dir, fs::path("output"));
   EXPECT_TRUE(cfg.output.save_trajectory);
-  EXPECT_FALSE(cfg.output.save_keyframes);
+  EXPECT_TRUE(cfg.output.save_keyframes);
 }
 
 TEST_F(ConfigTest, EmptyFileGivesDefaults) {
@@ -72,10 +72,11 @@ TEST_F(ConfigTest, EmptyFileGivesDefaults) {
 }
 
 TEST_F(ConfigTest, PresetCameraWithOverrides) {
-  const auto cfg = load_config(write("c.yaml",
-                                     "camera:\n  preset: tum2\n  depth_map_factor: 5000\n  disparity_sigma: 0.5\n"
-                                     "features:\n  n_features: 1500\n  scale_factor: 1.5\n"
-                                     "output:\n  dir: runs/a\n  save_keyframes: true\n"));
+  const auto cfg =
+      load_config(write("c.yaml",
+                        "camera:\n  preset: tum2\n  depth_map_factor: 5000\n  disparity_sigma: 0.5\n"
+                        "features:\n  n_features: 1500\n  scale_factor: 1.5\n"
+                        "output:\n  dir: runs/a\n  save_keyframes: true\n"));
   const auto tum2 = lrd::camera::camera_preset("tum2");
   EXPECT_EQ(cfg.camera.name, "tum2");
   EXPECT_DOUBLE_EQ(cfg.camera.fx, tum2.fx);
@@ -153,7 +154,8 @@ TEST_F(ConfigTest, OutOfRangeAndBadPreset) {
     (void)lrd::tracking::TrackerParams::from_config(cfg.tracking);
     ADD_FAILURE() << "expected lrd::Error";
   } catch (const lrd::Error& e) {
-    EXPECT_TRUE(contains(e.what(), "t.yaml:2: key 'tracking.keyframe_coverage' must be in [0, 1]")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "t.yaml:2: key 'tracking.keyframe_coverage' must be in [0, 1]"))
+        << e.what();
   }
   msg = error_of("camera:\n  preset: tum4\n");
   EXPECT_TRUE(contains(msg, "bad.yaml:2: key 'camera.preset'")) << msg;
@@ -237,7 +239,8 @@ TEST_F(ConfigTest, ShippedDefaultTrackingAndMappingSectionsMatchCodeDefaults) {
 }
 
 TEST_F(ConfigTest, TrackingAndMappingKeysAreChecked) {
-  const auto cfg = load_config(write("t.yaml", "tracking:\n  min_local_map_inlier: 40\nmapping:\n  redundant_ratio: 1.5\n"));
+  const auto cfg = load_config(
+      write("t.yaml", "tracking:\n  min_local_map_inlier: 40\nmapping:\n  redundant_ratio: 1.5\n"));
   try {
     (void)lrd::tracking::TrackerParams::from_config(cfg.tracking);
     FAIL() << "typo accepted";

@@ -33,8 +33,8 @@ struct Scene {
     cv::Mat grey, depth;
     cv::cvtColor(f.rgb, grey, cv::COLOR_BGR2GRAY);
     f.depth.convertTo(depth, CV_32F, 1.0 / seq.camera().depth_map_factor);
-    lrd::data::Frame frame(static_cast<std::uint64_t>(i), f.timestamp, grey, depth, cv::Mat(), extractor, undistorter,
-                           seq.camera());
+    lrd::data::Frame frame(static_cast<std::uint64_t>(i), f.timestamp, grey, depth, cv::Mat(), extractor,
+                           undistorter, seq.camera());
     frame.set_pose(f.pose.inverse());
     lrd::map::KeyFrame* kf = nullptr;
     {

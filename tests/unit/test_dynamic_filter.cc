@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "error_of.h"
 #include "lrd/config/config.h"
 #include "lrd/dynamic/depth_region_grower.h"
 #include "lrd/dynamic/dynamic_params.h"
@@ -16,7 +17,6 @@
 #include "lrd/util/error.h"
 #include "temp_dir.h"
 #include "textured_plane.h"
-#include "error_of.h"
 
 namespace fs = std::filesystem;
 using lrd::dynamic::DynamicMode;
@@ -40,7 +40,8 @@ const lrd::camera::PinholeCamera& tum3() {
 // --- the `dynamic` config section
 
 TEST(DynamicParams, ModesParseAndPrint) {
-  for (DynamicMode m : {DynamicMode::Static, DynamicMode::Semantic, DynamicMode::Geometric, DynamicMode::Full})
+  for (DynamicMode m :
+       {DynamicMode::Static, DynamicMode::Semantic, DynamicMode::Geometric, DynamicMode::Full})
     EXPECT_EQ(lrd::dynamic::parse_mode(lrd::dynamic::to_string(m)), m);
   EXPECT_EQ(lrd::dynamic::to_string(DynamicMode::Full), "full");
   EXPECT_EQ(lrd::dynamic::parse_mode("geometric"), DynamicMode::Geometric);
@@ -139,8 +140,10 @@ class BoxScene {
       const cv::Point c(rng.uniform(0, 256), rng.uniform(0, 256));
       const int size = rng.uniform(3, 16);
       const cv::Scalar grey(rng.uniform(0, 256));
-      if (k % 2) cv::rectangle(box_texture_, cv::Rect(c.x, c.y, size, rng.uniform(3, 16)), grey, cv::FILLED);
-      else cv::circle(box_texture_, c, size / 2 + 1, grey, cv::FILLED, cv::LINE_AA);
+      if (k % 2)
+        cv::rectangle(box_texture_, cv::Rect(c.x, c.y, size, rng.uniform(3, 16)), grey, cv::FILLED);
+      else
+        cv::circle(box_texture_, c, size / 2 + 1, grey, cv::FILLED, cv::LINE_AA);
     }
     cv::GaussianBlur(box_texture_, box_texture_, cv::Size(0, 0), 0.7);
   }
@@ -173,15 +176,17 @@ class BoxScene {
     return view;
   }
 
-  lrd::data::Frame frame(std::uint64_t id, double timestamp, const View& view, const Eigen::Isometry3d& T_cw) {
-    lrd::data::Frame f(id, timestamp, view.grey, view.depth, cv::Mat(), extractor_, undistorter_, plane_.camera());
+  lrd::data::Frame frame(std::uint64_t id, double timestamp, const View& view,
+                         const Eigen::Isometry3d& T_cw) {
+    lrd::data::Frame f(id, timestamp, view.grey, view.depth, cv::Mat(), extractor_, undistorter_,
+                       plane_.camera());
     f.set_pose(T_cw);
     return f;
   }
 
   // A keyframe of the view from T_cw at `timestamp` (features and depths; no map points needed).
-  lrd::map::KeyFrame* keyframe(lrd::map::Map& map, std::uint64_t id, double timestamp, const Eigen::Isometry3d& T_cw,
-                               bool with_box = false) {
+  lrd::map::KeyFrame* keyframe(lrd::map::Map& map, std::uint64_t id, double timestamp,
+                               const Eigen::Isometry3d& T_cw, bool with_box = false) {
     return map.create_keyframe(frame(id, timestamp, render(T_cw, with_box), T_cw));
   }
 
@@ -226,7 +231,8 @@ TEST(DynamicPointFilter, FlagsTheKeypointsOfAnObjectThatAppeared) {
                                              scene.keyframe(map, 1, 0.5, kf1_pose())};
   ASSERT_GT(kfs[0]->size(), 500u);
   const BoxScene::View view = scene.render(current_pose(), true);
-  const double box_share = static_cast<double>(cv::countNonZero(view.box)) / static_cast<double>(view.box.total());
+  const double box_share =
+      static_cast<double>(cv::countNonZero(view.box)) / static_cast<double>(view.box.total());
   ASSERT_GT(box_share, 0.08);
   ASSERT_LT(box_share, 0.3);
   const lrd::data::Frame frame = scene.frame(10, 1.0, view, current_pose());
@@ -278,7 +284,8 @@ TEST(DynamicPointFilter, FlagsNothingInAnUnchangedScene) {
                                                scene.keyframe(map, base + 1, 0.5, kf1_pose(), with_box)};
     const BoxScene::View view = scene.render(current_pose(), with_box);
     const lrd::data::Frame frame = scene.frame(base + 5, 1.0, view, current_pose());
-    const lrd::dynamic::GeometryCheckResult r = DynamicPointFilter{GeometryCheckParams{}}.check(frame, view.depth, kfs);
+    const lrd::dynamic::GeometryCheckResult r =
+        DynamicPointFilter{GeometryCheckParams{}}.check(frame, view.depth, kfs);
     EXPECT_EQ(r.keyframes, 2);
     EXPECT_GT(r.judged, 500);
     EXPECT_LT(r.seeds, 3);
@@ -344,8 +351,8 @@ lrd::map::KeyFrame* blank_keyframe(lrd::map::Map& map, double timestamp, const E
   static lrd::features::OrbExtractor extractor{lrd::features::OrbParams{}};
   static const lrd::features::KeypointUndistorter undistorter(tum3());
   const cv::Mat grey = cv::Mat::zeros(480, 640, CV_8U), depth = cv::Mat::zeros(480, 640, CV_32F);
-  lrd::data::Frame f(static_cast<std::uint64_t>(timestamp * 1000), timestamp, grey, depth, cv::Mat(), extractor,
-                     undistorter, tum3());
+  lrd::data::Frame f(static_cast<std::uint64_t>(timestamp * 1000), timestamp, grey, depth, cv::Mat(),
+                     extractor, undistorter, tum3());
   f.set_pose(T_cw);
   return map.create_keyframe(f);
 }
@@ -365,9 +372,10 @@ TEST(DynamicPointFilter, SelectsTheNearestOldEnoughKeyframes) {
   using V = Eigen::Vector3d;
   lrd::map::KeyFrame* origin = blank_keyframe(map, 0.0, camera_at(V(0, 0, 0)));
   lrd::map::KeyFrame* far = blank_keyframe(map, 0.1, camera_at(V(1.0, 0, 0)));
-  lrd::map::KeyFrame* side = blank_keyframe(map, 0.2, camera_at(V(0, 0.3, 0)));          // 0.3
-  lrd::map::KeyFrame* turned = blank_keyframe(map, 0.3, camera_at(V(0, 0, 0), 0.5236));  // 0.5 x 30 deg = 0.26
-  lrd::map::KeyFrame* recent = blank_keyframe(map, 0.95, camera_at(V(0.01, 0, 0)));      // too young
+  lrd::map::KeyFrame* side = blank_keyframe(map, 0.2, camera_at(V(0, 0.3, 0)));  // 0.3
+  lrd::map::KeyFrame* turned =
+      blank_keyframe(map, 0.3, camera_at(V(0, 0, 0), 0.5236));                       // 0.5 x 30 deg = 0.26
+  lrd::map::KeyFrame* recent = blank_keyframe(map, 0.95, camera_at(V(0.01, 0, 0)));  // too young
   lrd::map::KeyFrame* bad = blank_keyframe(map, 0.4, camera_at(V(0.02, 0, 0)));
   lrd::map::KeyFrame* twin = blank_keyframe(map, 0.5, camera_at(V(0, -0.3, 0)));  // ties with `side`
   bad->set_bad();
@@ -387,7 +395,8 @@ TEST(DynamicPointFilter, SelectsTheNearestOldEnoughKeyframes) {
   // Elsewhere: from (1, 0, 0) `far` is nearest.
   EXPECT_EQ(DynamicPointFilter(params).select_keyframes(camera_at(V(0.9, 0, 0)), 1.0, all).front(), far);
   // A camera looking the other way ranks by angle too: `turned` first at the origin.
-  EXPECT_EQ(DynamicPointFilter(params).select_keyframes(camera_at(V(0, 0, 0), 0.5236), 1.0, all).front(), turned);
+  EXPECT_EQ(DynamicPointFilter(params).select_keyframes(camera_at(V(0, 0, 0), 0.5236), 1.0, all).front(),
+            turned);
   params.min_keyframe_age_s = 0.75;  // `turned` (0.3 s) is now too young
   EXPECT_EQ(DynamicPointFilter(params).select_keyframes(here, 1.0, all), (List{origin, side, far}));
   params.min_keyframe_age_s = 0.85;

@@ -47,7 +47,9 @@ TEST(Frame, DepthAndVirtualRightPerKeypoint) {
   std::size_t with_depth = 0, close = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {
     const cv::Point2f p = f.keypoints()[i].pt;
-    const double d = raw.at<std::uint16_t>(static_cast<int>(std::lround(p.y)), static_cast<int>(std::lround(p.x))) / 5000.0;
+    const double d =
+        raw.at<std::uint16_t>(static_cast<int>(std::lround(p.y)), static_cast<int>(std::lround(p.x))) /
+        5000.0;
     if (d > 0) {
       ++with_depth;
       EXPECT_NEAR(f.depth(i), d, 1e-6);
@@ -89,7 +91,8 @@ TEST(Frame, MaskedPixelsGiveNoFeatures) {
   const auto f = fx.frame(3, mask);
   EXPECT_GT(f.size(), 700u);
   EXPECT_EQ(static_cast<int>(f.size()), f.descriptors().rows);
-  for (const auto& kp : f.keypoints()) EXPECT_FALSE(region.contains(cv::Point(cvRound(kp.pt.x), cvRound(kp.pt.y))));
+  for (const auto& kp : f.keypoints())
+    EXPECT_FALSE(region.contains(cv::Point(cvRound(kp.pt.x), cvRound(kp.pt.y))));
 }
 
 TEST(Frame, KeypointsReappearWhereGroundTruthGeometrySays) {
@@ -103,8 +106,8 @@ TEST(Frame, KeypointsReappearWhereGroundTruthGeometrySays) {
     if (pb.z() <= 0.1) continue;
     const Eigen::Vector2d uv = fx.seq.camera().project(pb);
     const int level = a.undistorted()[i].octave;
-    const auto near = b.features_in_area(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 3.0f * b.scale_factors()[level],
-                                         std::max(0, level - 1), level + 1);
+    const auto near = b.features_in_area(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                                         3.0f * b.scale_factors()[level], std::max(0, level - 1), level + 1);
     if (near.empty() && (uv.x() < 20 || uv.y() < 20 || uv.x() > 620 || uv.y() > 460)) continue;
     ++tested;
     int best = 256;

@@ -164,7 +164,8 @@ TEST(OrbTwoPhase, MaskGivenAfterDetection) {
   }
   for (const cv::KeyPoint& kp : ka) EXPECT_EQ(s.mask.at<std::uint8_t>(cvRound(kp.pt.y), cvRound(kp.pt.x)), 0);
   ASSERT_GT(ka.size(), 700u);
-  EXPECT_NEAR(static_cast<double>(kb.size()), static_cast<double>(ka.size()), 0.1 * static_cast<double>(ka.size()));
+  EXPECT_NEAR(static_cast<double>(kb.size()), static_cast<double>(ka.size()),
+              0.1 * static_cast<double>(ka.size()));
   // The budget goes to the rest of the image: about as many as without the mask.
   EXPECT_GT(kb.size(), 0.9 * OrbParams{}.n_features);
   // Most keypoints are the same ones (the two differ only where a cell's strong corners are all masked).
@@ -178,8 +179,8 @@ TEST(OrbTwoPhase, MaskGivenAfterDetection) {
   const lrd::features::KeypointUndistorter undistorter(s.plane.camera());
   const lrd::data::Frame full(1, 0.0, s.image.grey, s.image.depth, s.mask, a, undistorter, s.plane.camera());
   b.detect(s.image.grey);
-  const lrd::data::Frame two_phase(1, 0.0, s.image.grey, s.image.depth, s.mask, b, undistorter, s.plane.camera(),
-                                   lrd::data::Frame::Extraction::DescribeDetected);
+  const lrd::data::Frame two_phase(1, 0.0, s.image.grey, s.image.depth, s.mask, b, undistorter,
+                                   s.plane.camera(), lrd::data::Frame::Extraction::DescribeDetected);
   EXPECT_EQ(two_phase.size(), kb.size());
   EXPECT_EQ(full.size(), ka.size());
   EXPECT_EQ(cv::norm(two_phase.descriptors(), db, cv::NORM_HAMMING), 0.0);

@@ -36,8 +36,8 @@ TEST(MaskPropagator, IdentityMovesNothing) {
   const cv::Mat out = lrd::dynamic::propagate_mask(mask, depth, Eigen::Isometry3d::Identity(), tum3());
   ASSERT_EQ(out.type(), CV_8UC1);
   ASSERT_EQ(out.size(), mask.size());
-  EXPECT_EQ(cv::countNonZero(mask & ~out), 0);                            // every pixel stays set
-  EXPECT_EQ(cv::countNonZero((out != 0) & (out != 255)), 0);              // 255 = dynamic
+  EXPECT_EQ(cv::countNonZero(mask & ~out), 0);                             // every pixel stays set
+  EXPECT_EQ(cv::countNonZero((out != 0) & (out != 255)), 0);               // 255 = dynamic
   const cv::Rect a = cv::boundingRect(out(cv::Rect(250, 150, 150, 150)));  // at most 1 px of growth
   EXPECT_EQ(a.x, 50);
   EXPECT_EQ(a.y, 50);
@@ -55,7 +55,8 @@ TEST(MaskPropagator, SidewaysMotionShiftsByFocalTimesBaselineOverDepth) {
   for (const double z : {1.5, 3.0}) {
     for (const double tx : {0.1, -0.05}) {
       SCOPED_TRACE(testing::Message() << "z " << z << " tx " << tx);
-      cv::Mat mask = cv::Mat::zeros(480, 640, CV_8UC1), depth(480, 640, CV_32F, cv::Scalar(static_cast<float>(z)));
+      cv::Mat mask = cv::Mat::zeros(480, 640, CV_8UC1),
+              depth(480, 640, CV_32F, cv::Scalar(static_cast<float>(z)));
       mask(cv::Rect(280, 220, 50, 40)).setTo(255);
       Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
       T.translation() = Eigen::Vector3d(tx, 0.0, 0.0);
@@ -84,7 +85,7 @@ TEST(MaskPropagator, PixelsWithoutDepthStayAndPointsBehindVanish) {
   T.translation() = Eigen::Vector3d(0.2, 0.0, 0.0);  // 53.5 px to the right at 2 m
   const cv::Mat out = lrd::dynamic::propagate_mask(mask, depth, T, cam);
   EXPECT_EQ(cv::countNonZero(out(no_depth)), no_depth.area());  // stayed
-  EXPECT_EQ(cv::countNonZero(out(with_depth)), 0);               // moved away
+  EXPECT_EQ(cv::countNonZero(out(with_depth)), 0);              // moved away
   const cv::Rect moved = with_depth + cv::Point(static_cast<int>(std::lround(cam.fx * 0.2 / 2.0)), 0);
   EXPECT_EQ(cv::countNonZero(out(moved)), moved.area());
   EXPECT_LE(cv::countNonZero(out), 31 * 21 * 2);
@@ -193,7 +194,8 @@ TEST(DepthRegionGrower, GrowsOverTheObjectNotOntoTheWall) {
   ASSERT_GT(cv::countNonZero(room.floor_px), 20000);
   ASSERT_GT(cv::countNonZero(room.wall_px), 100000);
   const RegionGrowParams params;  // step 0.03, band 0.35, extent 0.8
-  const cv::Mat grown = lrd::dynamic::grow_regions(room.depth, {{320.0f, 300.0f, 1.5f}}, cam.fx, cam.fy, params);
+  const cv::Mat grown =
+      lrd::dynamic::grow_regions(room.depth, {{320.0f, 300.0f, 1.5f}}, cam.fx, cam.fy, params);
   ASSERT_EQ(grown.type(), CV_8UC1);
   ASSERT_EQ(grown.size(), room.depth.size());
   EXPECT_GE(share(grown, room.box_px), 0.95);
@@ -243,7 +245,8 @@ TEST(DepthRegionGrower, DepthBandBoundsARegionOnASlantedPlane) {
     SCOPED_TRACE(band);
     RegionGrowParams params;
     params.band = band;
-    const cv::Mat grown = lrd::dynamic::grow_regions(slant, {{320.0f, 240.0f, 1.64f}}, cam.fx, cam.fy, params);
+    const cv::Mat grown =
+        lrd::dynamic::grow_regions(slant, {{320.0f, 240.0f, 1.64f}}, cam.fx, cam.fy, params);
     const double d0 = slant.at<float>(240, 320);
     // Along the seed's row every column within the band is grown and none outside it.
     for (int u = 0; u < 640; ++u) {
@@ -265,13 +268,15 @@ TEST(DepthRegionGrower, SeedsInHolesAndSeveralObjects) {
   depth(cv::Rect(110, 110, 20, 20)).setTo(0.0f);  // a hole elsewhere in box a
   const RegionGrowParams params;
   // One seed without depth under it (its own depth given), one on box b.
-  const cv::Mat grown =
-      lrd::dynamic::grow_regions(depth, {{140.0f, 160.0f, 1.2f}, {450.0f, 250.0f, 2.0f}}, cam.fx, cam.fy, params);
+  const cv::Mat grown = lrd::dynamic::grow_regions(depth, {{140.0f, 160.0f, 1.2f}, {450.0f, 250.0f, 2.0f}},
+                                                   cam.fx, cam.fy, params);
   EXPECT_EQ(cv::countNonZero(grown(b)), b.area());
   EXPECT_EQ(cv::countNonZero(grown(a)), a.area() - 20 * 20);  // all but the hole, around it
   EXPECT_LE(cv::countNonZero(grown), a.area() + b.area() + 4);
   // A seed in a hole without a depth of its own grows nothing; no seeds, nothing.
-  EXPECT_EQ(cv::countNonZero(lrd::dynamic::grow_regions(depth, {{140.0f, 160.0f, 0.0f}}, cam.fx, cam.fy, params)), 0);
+  EXPECT_EQ(
+      cv::countNonZero(lrd::dynamic::grow_regions(depth, {{140.0f, 160.0f, 0.0f}}, cam.fx, cam.fy, params)),
+      0);
   EXPECT_EQ(cv::countNonZero(lrd::dynamic::grow_regions(depth, {}, cam.fx, cam.fy, params)), 0);
   // Seeds outside the image are clamped to its border.
   const cv::Mat edge = lrd::dynamic::grow_regions(depth, {{-50.0f, 1000.0f, 3.0f}}, cam.fx, cam.fy, params);

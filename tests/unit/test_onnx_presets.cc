@@ -12,12 +12,12 @@
 #include <string>
 
 #include "error_of.h"
-#include "shared_dir.h"
 #include "lrd/config/config.h"
 #include "lrd/runner/sequence_runner.h"
 #include "lrd/segmentation/onnx_presets.h"
 #include "lrd/segmentation/onnx_segmenter.h"
 #include "lrd/segmentation/segmentation_params.h"
+#include "shared_dir.h"
 #include "temp_dir.h"
 
 namespace fs = std::filesystem;
@@ -31,8 +31,9 @@ using lrd::test::shared_dir;
 
 namespace {
 
-const char* const kPhotos[] = {"hyuto_sample.png", "mrcnn_ex01.jpg", "mrcnn_ex02.jpg", "mrcnn_ex03.jpg", "pphs_1.jpg",
-                               "pphs_2.png",       "pphs_3.png",     "pphs_4.jpg",     "street.jpg"};
+const char* const kPhotos[] = {"hyuto_sample.png", "mrcnn_ex01.jpg", "mrcnn_ex02.jpg",
+                               "mrcnn_ex03.jpg",   "pphs_1.jpg",     "pphs_2.png",
+                               "pphs_3.png",       "pphs_4.jpg",     "street.jpg"};
 
 // The converted model of a selfie preset, or "" when it has not been converted yet.
 fs::path converted(const std::string& preset) {
@@ -43,12 +44,12 @@ fs::path converted(const std::string& preset) {
   }
 }
 
-#define REQUIRE_SHARED_AND_CONVERTED(preset)                                                                 \
-  do {                                                                                                       \
-    if (!fs::is_directory(shared_dir() / "data" / "people"))                                                 \
-      GTEST_SKIP() << "shared photos not found at " << shared_dir() << " (set LRD_SHARED_DIR)";              \
-    if (converted(preset).empty())                                                                           \
-      GTEST_SKIP() << preset << " model not converted yet: run scripts/fetch-models.sh";                     \
+#define REQUIRE_SHARED_AND_CONVERTED(preset)                                                    \
+  do {                                                                                          \
+    if (!fs::is_directory(shared_dir() / "data" / "people"))                                    \
+      GTEST_SKIP() << "shared photos not found at " << shared_dir() << " (set LRD_SHARED_DIR)"; \
+    if (converted(preset).empty())                                                              \
+      GTEST_SKIP() << preset << " model not converted yet: run scripts/fetch-models.sh";        \
   } while (0)
 
 double iou(const cv::Mat& a, const cv::Mat& b) {
@@ -140,7 +141,8 @@ TEST(ConvertedSelfie, ReproducesTheReferenceMasksOnThePhotos) {
     SCOPED_TRACE(name);
     const cv::Mat img = cv::imread((shared_dir() / "data/people" / name).string(), cv::IMREAD_COLOR);
     const cv::Mat ref = cv::imread(
-        (shared_dir() / "data/people/ref_masks/selfie_256x256" / (fs::path(name).stem().string() + ".png")).string(),
+        (shared_dir() / "data/people/ref_masks/selfie_256x256" / (fs::path(name).stem().string() + ".png"))
+            .string(),
         cv::IMREAD_UNCHANGED);
     ASSERT_FALSE(img.empty());
     ASSERT_FALSE(ref.empty());
@@ -152,7 +154,8 @@ TEST(ConvertedSelfie, ReproducesTheReferenceMasksOnThePhotos) {
 
 TEST(ConvertedSelfie, LandscapeOutputEqualsTheReferenceConversion) {
   REQUIRE_SHARED_AND_CONVERTED("selfie-landscape");
-  const fs::path reference = shared_dir() / "models/mediapipe_selfie/selfie_segmentation_landscape_256x144.onnx";
+  const fs::path reference =
+      shared_dir() / "models/mediapipe_selfie/selfie_segmentation_landscape_256x144.onnx";
   if (!fs::is_regular_file(reference)) GTEST_SKIP() << "no reference model at " << reference;
   OnnxSegmenter ours(onnx_preset("selfie-landscape"));
   OnnxSegmenter theirs(onnx_preset("selfie-landscape", reference));

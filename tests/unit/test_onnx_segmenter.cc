@@ -3,7 +3,6 @@
 // under shared/data/people/ref_masks; models whose output does not fit the config, and missing
 // files. Skipped when the shared folder is absent.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,11 +14,11 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "error_of.h"
 #include "lrd/segmentation/onnx_presets.h"
 #include "lrd/segmentation/onnx_segmenter.h"
 #include "lrd/segmentation/segmentation_params.h"
 #include "lrd/util/error.h"
-#include "error_of.h"
 #include "shared_dir.h"
 
 namespace fs = std::filesystem;
@@ -32,18 +31,24 @@ using lrd::test::shared_dir;
 namespace {
 
 // Skips the test unless the shared models and photos are there.
-#define REQUIRE_SHARED()                                                                                    \
-  do {                                                                                                       \
-    if (!fs::is_directory(shared_dir() / "models") || !fs::is_directory(shared_dir() / "data" / "people"))   \
-      GTEST_SKIP() << "shared folder with models and photos not found at " << shared_dir()                   \
-                   << " (set LRD_SHARED_DIR)";                                                               \
+#define REQUIRE_SHARED()                                                                                   \
+  do {                                                                                                     \
+    if (!fs::is_directory(shared_dir() / "models") || !fs::is_directory(shared_dir() / "data" / "people")) \
+      GTEST_SKIP() << "shared folder with models and photos not found at " << shared_dir()                 \
+                   << " (set LRD_SHARED_DIR)";                                                             \
   } while (0)
 
-fs::path espnet_model() { return shared_dir() / "models/espnetv2_voc/espnetv2_s2.0_voc_384x288.onnx"; }
-fs::path selfie_model() { return shared_dir() / "models/mediapipe_selfie/selfie_segmentation_256x256.onnx"; }
+fs::path espnet_model() {
+  return shared_dir() / "models/espnetv2_voc/espnetv2_s2.0_voc_384x288.onnx";
+}
+fs::path selfie_model() {
+  return shared_dir() / "models/mediapipe_selfie/selfie_segmentation_256x256.onnx";
+}
 
 // Through the espnetv2-voc preset: the preset's pre-processing is what the reference used.
-OnnxParams espnet_params() { return lrd::segmentation::onnx_preset("espnetv2-voc", espnet_model()); }
+OnnxParams espnet_params() {
+  return lrd::segmentation::onnx_preset("espnetv2-voc", espnet_model());
+}
 
 OnnxParams selfie_params() {
   OnnxParams p;
@@ -110,7 +115,8 @@ TEST(OnnxSegmenter, EspnetVocLabelsMatchTheReference) {
     ASSERT_EQ(labels.type(), CV_8UC1);
     ASSERT_EQ(labels.size(), img.size());
     ASSERT_EQ(ref.size(), img.size());
-    const double agree = 1.0 - static_cast<double>(cv::countNonZero(labels != ref)) / static_cast<double>(ref.total());
+    const double agree =
+        1.0 - static_cast<double>(cv::countNonZero(labels != ref)) / static_cast<double>(ref.total());
     EXPECT_GE(agree, 0.98);
     // The person class is found where the reference has it.
     EXPECT_GE(iou(labels == 15, ref == 15), 0.95);
@@ -225,7 +231,8 @@ TEST(OnnxSegmenter, MissingOrBrokenModelFileIsAnErrorNamingIt) {
   EXPECT_NE(msg.find("segmentation.onnx.model"), std::string::npos) << msg;
 
   // A file that is not an ONNX model.
-  const fs::path junk = fs::temp_directory_path() / ("lrd_junk_model_" + std::to_string(::getpid()) + ".onnx");
+  const fs::path junk =
+      fs::temp_directory_path() / ("lrd_junk_model_" + std::to_string(::getpid()) + ".onnx");
   { std::ofstream(junk) << "definitely not protobuf"; }
   p.model = junk;
   msg = error_of([&] { OnnxSegmenter s(p); });

@@ -8,13 +8,13 @@
 #include <string>
 #include <thread>
 
+#include "error_of.h"
 #include "lrd/config/config.h"
 #include "lrd/segmentation/mask_folder_segmenter.h"
 #include "lrd/segmentation/segmentation_params.h"
 #include "lrd/segmentation/segmentation_worker.h"
 #include "lrd/util/error.h"
 #include "temp_dir.h"
-#include "error_of.h"
 
 namespace fs = std::filesystem;
 using lrd::segmentation::MaskFolderParams;
@@ -39,7 +39,9 @@ cv::Mat tagged_mask(int tag) {
   return m;
 }
 
-void write_png(const fs::path& file, const cv::Mat& img) { ASSERT_TRUE(cv::imwrite(file.string(), img)) << file; }
+void write_png(const fs::path& file, const cv::Mat& img) {
+  ASSERT_TRUE(cv::imwrite(file.string(), img)) << file;
+}
 
 using lrd::test::error_of;
 
@@ -339,7 +341,8 @@ class FakeSegmenter : public Segmenter {
     started.fetch_add(1);
     EXPECT_FALSE(rgb_order);
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms_));
-    if (timestamp == fail_at_) throw lrd::Error("fake segmenter: no mask for frame " + std::to_string(timestamp));
+    if (timestamp == fail_at_)
+      throw lrd::Error("fake segmenter: no mask for frame " + std::to_string(timestamp));
     finished.fetch_add(1);
     return cv::Mat(rgb.size(), CV_8UC1, cv::Scalar(static_cast<int>(timestamp)));
   }
@@ -367,7 +370,9 @@ double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-int tag(const SegmentationResult& r) { return r.mask.at<std::uint8_t>(0, 0); }
+int tag(const SegmentationResult& r) {
+  return r.mask.at<std::uint8_t>(0, 0);
+}
 
 }  // namespace
 
@@ -405,7 +410,7 @@ TEST(SegmentationWorker, AsyncReturnsWithinTheTimeoutWithAnOlderMask) {
   w.submit(0);
   auto t0 = std::chrono::steady_clock::now();
   auto r = w.worker->wait(0, 0.01);
-  EXPECT_LT(since(t0), 0.5);  // not the 150 ms the segmenter takes (checked by the value)
+  EXPECT_LT(since(t0), 0.5);    // not the 150 ms the segmenter takes (checked by the value)
   EXPECT_FALSE(r.has_value());  // nothing finished yet
   r = w.worker->wait(0, std::nullopt);
   ASSERT_TRUE(r.has_value());

@@ -15,9 +15,9 @@
 #include "temp_dir.h"
 
 namespace fs = std::filesystem;
+using lrd::synth::SyntheticSequence;
 using lrd::synth::SynthFrame;
 using lrd::synth::SynthOptions;
-using lrd::synth::SyntheticSequence;
 
 namespace {
 
@@ -88,7 +88,8 @@ TEST(SynthPresets, WalkingPeopleOftenCoverATwentyToFiftyPercent) {
     const cv::Mat mask = seq.render(i).mask;
     coverage.push_back(cv::countNonZero(mask) / static_cast<double>(mask.total()));
   }
-  const auto in_band = std::count_if(coverage.begin(), coverage.end(), [](double c) { return c >= 0.2 && c <= 0.5; });
+  const auto in_band =
+      std::count_if(coverage.begin(), coverage.end(), [](double c) { return c >= 0.2 && c <= 0.5; });
   EXPECT_GE(static_cast<double>(in_band) / coverage.size(), 0.25);
   EXPECT_GT(median(coverage), 0.1);
 }
@@ -115,7 +116,8 @@ TEST(SynthGeometry, StaticPointsReprojectWithGroundTruthPoses) {
       if (zb <= 0 || std::abs(zb - pb.z()) > 0.2 * pb.z()) continue;  // occlusion boundary
       rel_depth_err.push_back(std::abs(zb - pb.z()) / (pb.z() * pb.z()));
       cv::Mat patch;
-      cv::getRectSubPix(grey_b, {1, 1}, cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y())), patch);
+      cv::getRectSubPix(grey_b, {1, 1}, cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y())),
+                        patch);
       intensity_err.push_back(std::abs(patch.at<uchar>(0, 0) - static_cast<double>(grey_a.at<uchar>(v, u))));
     }
   }
@@ -246,7 +248,8 @@ TEST(SynthWriter, WritesTumLayoutDeterministicallyAndReadsBack) {
     const fs::path rel = fs::relative(e.path(), d1);
     EXPECT_EQ(lrd::test::TempDir::read(e.path()), lrd::test::TempDir::read(d2 / rel)) << rel;
   }
-  EXPECT_EQ(files, 6u * 5u + 7u);  // 5 images per frame; rgb/depth/associations, gt, settings, json, scene.ply
+  EXPECT_EQ(files,
+            6u * 5u + 7u);  // 5 images per frame; rgb/depth/associations, gt, settings, json, scene.ply
   // The project's own TUM reader associates it back frame for frame.
   const auto tum = lrd::io::TumSequence::open(d1);
   ASSERT_EQ(tum.size(), 6u);
@@ -277,7 +280,8 @@ TEST(SynthScene, SamplesLieOnTheStaticSurfaces) {
   const auto& cam = seq.camera();
   int on_surface = 0, in_free_space = 0;
   for (const Eigen::Vector3f& p : scene.points) {
-    EXPECT_TRUE(p.x() > -0.01f && p.x() < 6.01f && p.y() > -0.01f && p.y() < 5.01f && p.z() > -0.01f && p.z() < 3.01f)
+    EXPECT_TRUE(p.x() > -0.01f && p.x() < 6.01f && p.y() > -0.01f && p.y() < 5.01f && p.z() > -0.01f &&
+                p.z() < 3.01f)
         << p.transpose();
     const Eigen::Vector3f c = T_cw * p;
     if (c.z() < 0.3f) continue;
@@ -286,8 +290,10 @@ TEST(SynthScene, SamplesLieOnTheStaticSurfaces) {
     if (u < 0 || v < 0 || u >= cam.width || v >= cam.height) continue;
     const double z = f.static_depth.at<std::uint16_t>(v, u) / cam.depth_map_factor;
     if (z <= 0) continue;
-    if (std::abs(z - c.z()) < 0.03 + 0.02 * z) ++on_surface;
-    else if (c.z() < z - 0.15) ++in_free_space;
+    if (std::abs(z - c.z()) < 0.03 + 0.02 * z)
+      ++on_surface;
+    else if (c.z() < z - 0.15)
+      ++in_free_space;
   }
   EXPECT_GT(on_surface, 10000);
   EXPECT_LT(in_free_space, on_surface / 200);

@@ -100,7 +100,8 @@ TEST(System, RejectsBadImagesWithClearErrors) {
   cv::Mat rgb16;
   f.rgb.convertTo(rgb16, CV_16UC3);
   EXPECT_NE(message(rgb16, f.depth, 1.0).find("CV_8UC3 or CV_8UC1"), std::string::npos);
-  EXPECT_NE(message(f.rgb(cv::Rect(0, 0, 320, 240)).clone(), f.depth, 1.0).find("the camera"), std::string::npos);
+  EXPECT_NE(message(f.rgb(cv::Rect(0, 0, 320, 240)).clone(), f.depth, 1.0).find("the camera"),
+            std::string::npos);
   cv::Mat depth8;
   f.depth.convertTo(depth8, CV_8U);
   EXPECT_NE(message(f.rgb, depth8, 1.0).find("depth must be"), std::string::npos);

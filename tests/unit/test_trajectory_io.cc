@@ -26,9 +26,15 @@ const lrd::test::TempDir& scratch() {
   static const lrd::test::TempDir dir("traj");
   return dir;
 }
-fs::path temp_file(const std::string& name) { return scratch().path() / name; }
-fs::path write_text(const std::string& name, const std::string& text) { return scratch().write(name, text); }
-std::string read_text(const fs::path& file) { return lrd::test::TempDir::read(file); }
+fs::path temp_file(const std::string& name) {
+  return scratch().path() / name;
+}
+fs::path write_text(const std::string& name, const std::string& text) {
+  return scratch().write(name, text);
+}
+std::string read_text(const fs::path& file) {
+  return lrd::test::TempDir::read(file);
+}
 
 StampedPose make_pose(double t, const Eigen::Quaterniond& q, const Eigen::Vector3d& p) {
   StampedPose pose;

@@ -287,7 +287,8 @@ TEST_F(TumSequenceTest, PreloadDecodesEveryFrameFirst) {
   EXPECT_EQ(broken.stats().frames, 2u);
   EXPECT_EQ(broken.next()->index, 0u);
   EXPECT_EQ(broken.next()->index, 1u);
-  EXPECT_TRUE(contains(error_of([&] { (void)broken.next(); }), depth_file(2).string())) << "corrupt frame named";
+  EXPECT_TRUE(contains(error_of([&] { (void)broken.next(); }), depth_file(2).string()))
+      << "corrupt frame named";
 }
 
 TEST_F(TumSequenceTest, PrefetchSurfacesCorruptPng) {

@@ -52,7 +52,7 @@ struct PinholeCamera {
   }
 
   [[nodiscard]] Eigen::Matrix3d K() const;
-  [[nodiscard]] cv::Mat K_cv() const;         // 3x3 CV_64F
+  [[nodiscard]] cv::Mat K_cv() const;           // 3x3 CV_64F
   [[nodiscard]] cv::Mat distortion_cv() const;  // 1x5 CV_64F, OpenCV order k1 k2 p1 p2 k3
   [[nodiscard]] double baseline() const { return bf / fx; }
   [[nodiscard]] double close_depth_threshold() const { return th_depth * baseline(); }

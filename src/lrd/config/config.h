@@ -19,7 +19,7 @@ namespace lrd::config {
 struct OutputConfig {
   std::filesystem::path dir = "output";  // relative paths are relative to the working directory
   bool save_trajectory = true;           // TUM-format CameraTrajectory.txt
-  bool save_keyframes = false;           // TUM-format KeyFrameTrajectory.txt
+  bool save_keyframes = true;            // TUM-format KeyFrameTrajectory.txt
 };
 
 struct Config {

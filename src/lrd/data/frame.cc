@@ -8,15 +8,21 @@
 
 namespace lrd::data {
 
-Frame::Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::Mat& depth, const cv::Mat& mask,
-             features::OrbExtractor& extractor, const features::KeypointUndistorter& undistorter,
-             const camera::PinholeCamera& camera, Extraction extraction)
-    : id_(id), timestamp_(timestamp), camera_(camera), close_depth_(static_cast<float>(camera.close_depth_threshold())) {
+Frame::Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::Mat& depth,
+             const cv::Mat& mask, features::OrbExtractor& extractor,
+             const features::KeypointUndistorter& undistorter, const camera::PinholeCamera& camera,
+             Extraction extraction)
+    : id_(id),
+      timestamp_(timestamp),
+      camera_(camera),
+      close_depth_(static_cast<float>(camera.close_depth_threshold())) {
   if (grey.type() != CV_8UC1) throw Error("frame: expected an 8-bit grey image");
   if (depth.type() != CV_32FC1 || depth.size() != grey.size())
     throw Error("frame: expected a CV_32FC1 depth image of the grey image's size");
-  if (extraction == Extraction::Full) extractor.extract(grey, mask, keypoints_, descriptors_);
-  else extractor.describe_detected(mask, keypoints_, descriptors_);
+  if (extraction == Extraction::Full)
+    extractor.extract(grey, mask, keypoints_, descriptors_);
+  else
+    extractor.describe_detected(mask, keypoints_, descriptors_);
   dynamic_mask = mask;
   undistorted_ = undistorter.undistort(keypoints_);
   level_sigma2_ = extractor.level_sigma2();
@@ -91,7 +97,8 @@ void Frame::build_grid() {
   grid_.assign(static_cast<std::size_t>(kGridCols * kGridRows), {});
   for (std::size_t i = 0; i < n; ++i) {
     int c, r;
-    if (grid_cell(undistorted_[i].pt, c, r)) grid_[static_cast<std::size_t>(r * kGridCols + c)].push_back(static_cast<std::uint32_t>(i));
+    if (grid_cell(undistorted_[i].pt, c, r))
+      grid_[static_cast<std::size_t>(r * kGridCols + c)].push_back(static_cast<std::uint32_t>(i));
   }
 }
 
@@ -101,12 +108,15 @@ bool Frame::grid_cell(const cv::Point2f& p, int& col, int& row) const {
   return col >= 0 && col < kGridCols && row >= 0 && row < kGridRows;
 }
 
-std::vector<std::size_t> Frame::features_in_area(float x, float y, float radius, int min_level, int max_level) const {
+std::vector<std::size_t> Frame::features_in_area(float x, float y, float radius, int min_level,
+                                                 int max_level) const {
   std::vector<std::size_t> out;
   const int c0 = std::max(0, static_cast<int>(std::floor((x - radius - bounds_.x) * cell_w_inv_)));
-  const int c1 = std::min(kGridCols - 1, static_cast<int>(std::floor((x + radius - bounds_.x) * cell_w_inv_)));
+  const int c1 =
+      std::min(kGridCols - 1, static_cast<int>(std::floor((x + radius - bounds_.x) * cell_w_inv_)));
   const int r0 = std::max(0, static_cast<int>(std::floor((y - radius - bounds_.y) * cell_h_inv_)));
-  const int r1 = std::min(kGridRows - 1, static_cast<int>(std::floor((y + radius - bounds_.y) * cell_h_inv_)));
+  const int r1 =
+      std::min(kGridRows - 1, static_cast<int>(std::floor((y + radius - bounds_.y) * cell_h_inv_)));
   for (int r = r0; r <= r1; ++r) {
     for (int c = c0; c <= c1; ++c) {
       for (const std::uint32_t i : grid_[static_cast<std::size_t>(r * kGridCols + c)]) {

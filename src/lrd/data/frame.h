@@ -49,8 +49,10 @@ class Frame {
   [[nodiscard]] std::size_t size() const { return keypoints_.size(); }
   [[nodiscard]] const camera::PinholeCamera& camera() const { return camera_; }
 
-  [[nodiscard]] const std::vector<cv::KeyPoint>& keypoints() const { return keypoints_; }      // as detected
-  [[nodiscard]] const std::vector<cv::KeyPoint>& undistorted() const { return undistorted_; }  // ideal pinhole
+  [[nodiscard]] const std::vector<cv::KeyPoint>& keypoints() const { return keypoints_; }  // as detected
+  [[nodiscard]] const std::vector<cv::KeyPoint>& undistorted() const {
+    return undistorted_;
+  }  // ideal pinhole
   [[nodiscard]] const cv::Mat& descriptors() const { return descriptors_; }
   [[nodiscard]] float depth(std::size_t i) const { return depth_[i]; }      // metres, < 0 = none
   [[nodiscard]] float u_right(std::size_t i) const { return u_right_[i]; }  // < 0 = none
@@ -67,7 +69,8 @@ class Frame {
 
   // Whether an undistorted position lies inside the image (the undistorted bounds).
   [[nodiscard]] bool in_bounds(double u, double v) const {
-    return u >= bounds_.x && u < bounds_.x + bounds_.width && v >= bounds_.y && v < bounds_.y + bounds_.height;
+    return u >= bounds_.x && u < bounds_.x + bounds_.width && v >= bounds_.y &&
+           v < bounds_.y + bounds_.height;
   }
   [[nodiscard]] const cv::Rect2f& bounds() const { return bounds_; }
 

@@ -10,7 +10,8 @@ namespace lrd::dense {
 BackgroundRepairer::BackgroundRepairer(const camera::PinholeCamera& camera, const RepairParams& params)
     : camera_(camera), params_(params) {}
 
-cv::Rect BackgroundRepairer::source_window(const cv::Rect& box, const Eigen::Isometry3d& T_st, const cv::Size& size) const {
+cv::Rect BackgroundRepairer::source_window(const cv::Rect& box, const Eigen::Isometry3d& T_st,
+                                           const cv::Size& size) const {
   // The target pixels of `box` at any depth the repair uses fill a convex frustum; its image in
   // the source is the convex hull of its 8 corners' projections, so only the source pixels in
   // their bounding box can land in the box. A corner behind the source camera: the whole image.
@@ -32,7 +33,8 @@ cv::Rect BackgroundRepairer::source_window(const cv::Rect& box, const Eigen::Iso
   return window & cv::Rect(0, 0, size.width, size.height);
 }
 
-RepairResult BackgroundRepairer::repair(const RgbdView& target, const std::vector<const RgbdView*>& sources) const {
+RepairResult BackgroundRepairer::repair(const RgbdView& target,
+                                        const std::vector<const RgbdView*>& sources) const {
   RepairResult r;
   r.bgr = target.bgr.clone();
   r.depth = target.depth.clone();
@@ -49,7 +51,8 @@ RepairResult BackgroundRepairer::repair(const RgbdView& target, const std::vecto
   // within a band behind it. Averaging them (rather than keeping the nearest sample) removes the
   // sensor noise's pull towards the camera that a plain minimum over many sources has.
   cv::Mat zbuf(target.depth.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
-  cv::Mat zsum(target.depth.size(), CV_32F, cv::Scalar(0)), csum(target.depth.size(), CV_32FC3, cv::Scalar::all(0));
+  cv::Mat zsum(target.depth.size(), CV_32F, cv::Scalar(0)),
+      csum(target.depth.size(), CV_32FC3, cv::Scalar::all(0));
   cv::Mat count(target.depth.size(), CV_32F, cv::Scalar(0));
   const auto band = static_cast<float>(params_.surface_band);
   const double fx = camera_.fx, fy = camera_.fy, cx = camera_.cx, cy = camera_.cy;
@@ -79,7 +82,8 @@ RepairResult BackgroundRepairer::repair(const RgbdView& target, const std::vecto
         const double pu = fx * p.x() / p.z() + cx, pv = fy * p.y() / p.z() + cy;
         const double half = 0.5 * splat - 0.5;
         const int u0 = static_cast<int>(std::floor(pu - half)), v0 = static_cast<int>(std::floor(pv - half));
-        if (u0 + splat <= box.x || v0 + splat <= box.y || u0 >= box.x + box.width || v0 >= box.y + box.height) continue;
+        if (u0 + splat <= box.x || v0 + splat <= box.y || u0 >= box.x + box.width || v0 >= box.y + box.height)
+          continue;
         if (on_depth_edge(src->depth, u, v, params_.depth_edge)) continue;
         const float zt = static_cast<float>(p.z());
         for (int dv = 0; dv < splat; ++dv) {

@@ -30,12 +30,14 @@ class BackgroundRepairer {
 
   // Repairs `target` from `sources` (any order; poses in the same world frame). Without a dynamic
   // region the result is a copy of the target.
-  [[nodiscard]] RepairResult repair(const RgbdView& target, const std::vector<const RgbdView*>& sources) const;
+  [[nodiscard]] RepairResult repair(const RgbdView& target,
+                                    const std::vector<const RgbdView*>& sources) const;
 
  private:
   // The part of a source image (size `size`, pose T_st relative to the target) that can project
   // into the target rectangle `box`.
-  [[nodiscard]] cv::Rect source_window(const cv::Rect& box, const Eigen::Isometry3d& T_st, const cv::Size& size) const;
+  [[nodiscard]] cv::Rect source_window(const cv::Rect& box, const Eigen::Isometry3d& T_st,
+                                       const cv::Size& size) const;
 
   camera::PinholeCamera camera_;
   RepairParams params_;

@@ -5,8 +5,8 @@
 
 namespace lrd::dense {
 
-cv::Mat render_cloud(const PointCloud& cloud, const camera::PinholeCamera& camera, const Eigen::Isometry3d& T_wc,
-                     int point_px) {
+cv::Mat render_cloud(const PointCloud& cloud, const camera::PinholeCamera& camera,
+                     const Eigen::Isometry3d& T_wc, int point_px) {
   cv::Mat image(camera.height, camera.width, CV_8UC3, cv::Scalar(40, 40, 40));
   cv::Mat zbuf(camera.height, camera.width, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
   const Eigen::Isometry3f T_cw = T_wc.inverse().cast<float>();
@@ -15,8 +15,10 @@ cv::Mat render_cloud(const PointCloud& cloud, const camera::PinholeCamera& camer
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f p = T_cw * cloud.points[i];
     if (p.z() < 0.1f) continue;
-    const float fu = std::floor(static_cast<float>(camera.fx) * p.x() / p.z() + static_cast<float>(camera.cx) + 0.5f);
-    const float fv = std::floor(static_cast<float>(camera.fy) * p.y() / p.z() + static_cast<float>(camera.cy) + 0.5f);
+    const float fu =
+        std::floor(static_cast<float>(camera.fx) * p.x() / p.z() + static_cast<float>(camera.cx) + 0.5f);
+    const float fv =
+        std::floor(static_cast<float>(camera.fy) * p.y() / p.z() + static_cast<float>(camera.cy) + 0.5f);
     if (!(fu > -4.0f && fv > -4.0f && fu < static_cast<float>(camera.width + 4) &&
           fv < static_cast<float>(camera.height + 4)))
       continue;  // outside the picture (or not a number): no cast of a huge float
@@ -34,7 +36,8 @@ cv::Mat render_cloud(const PointCloud& cloud, const camera::PinholeCamera& camer
   return image;
 }
 
-Eigen::Isometry3d overview_pose(const PointCloud& cloud, const Eigen::Isometry3d& reference, double back, double up) {
+Eigen::Isometry3d overview_pose(const PointCloud& cloud, const Eigen::Isometry3d& reference, double back,
+                                double up) {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3f& p : cloud.points) centroid += p.cast<double>();
   if (!cloud.points.empty()) centroid /= static_cast<double>(cloud.size());
@@ -44,7 +47,7 @@ Eigen::Isometry3d overview_pose(const PointCloud& cloud, const Eigen::Isometry3d
   Eigen::Vector3d z = centroid - eye;
   if (z.norm() < 1e-6) z = R.col(2);
   z.normalize();
-  Eigen::Vector3d x = z.cross(-R.col(1));  // right = forward x up
+  Eigen::Vector3d x = z.cross(-R.col(1));                   // right = forward x up
   if (x.norm() < 1e-6) x = R.col(0) - R.col(0).dot(z) * z;  // looking straight up or down
   x.normalize();
   const Eigen::Vector3d y = z.cross(x);

@@ -10,6 +10,7 @@
 #include "lrd/dense/voxel_grid.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
+#include "lrd/util/fault_injection.h"
 
 namespace lrd::dense {
 
@@ -17,7 +18,8 @@ namespace {
 constexpr int kCoarse = 4;  // the free-space check's views are 1/4 of the resolution
 }  // namespace
 
-DenseMapper::DenseMapper(map::Map& map, const camera::PinholeCamera& camera, const DenseParams& params, bool threaded)
+DenseMapper::DenseMapper(map::Map& map, const camera::PinholeCamera& camera, const DenseParams& params,
+                         bool threaded)
     : map_(map),
       camera_(camera),
       coarse_camera_(coarse_camera(camera, kCoarse)),
@@ -48,11 +50,19 @@ void DenseMapper::process_queued() {
     Pending p;
     {
       std::lock_guard lock(queue_mutex_);
-      if (queue_.empty() || error_) return;
+      if (queue_.empty() || error_ || failed_) return;
       p = std::move(queue_.front());
       queue_.pop_front();
     }
-    process(std::move(p));
+    try {
+      process(std::move(p));
+    } catch (...) {
+      // Lock-step: the caller gets the error now; nothing more is processed, shutdown() is quiet.
+      std::lock_guard lock(queue_mutex_);
+      queue_.clear();
+      failed_ = true;
+      throw;
+    }
   }
 }
 
@@ -105,6 +115,7 @@ void DenseMapper::run() {
 }
 
 void DenseMapper::process(Pending p) {
+  util::check_fault_point("dense");
   // Current poses of this keyframe and of the repair sources (local BA may have moved them since).
   {
     std::lock_guard lock(map_.mutex());
@@ -118,7 +129,8 @@ void DenseMapper::process(Pending p) {
   if (params_.repair.enabled && !p.view.dynamic.empty() && cv::countNonZero(p.view.dynamic) > 0) {
     // The newest repair.keyframes of the kept keyframes.
     std::vector<const RgbdView*> sources;
-    const std::size_t first = recent_.size() - std::min<std::size_t>(recent_.size(), params_.repair.keyframes);
+    const std::size_t first =
+        recent_.size() - std::min<std::size_t>(recent_.size(), params_.repair.keyframes);
     for (std::size_t k = first; k < recent_.size(); ++k) sources.push_back(&recent_[k].view);
     const RepairResult rep = repairer_.repair(p.view, sources);
     if (on_repair_) on_repair_(p.kf->timestamp(), p.view, rep);
@@ -150,7 +162,8 @@ void DenseMapper::process(Pending p) {
     for (std::size_t j = 0; j < back.size(); ++j) {
       const Stored& s = stored_[stored_.size() - back[j]];
       updated[j] = s.votes;
-      vote_free_space(s.local, recent_[recent_.size() - back[j]].view.T_cw, p.coarse, coarse_camera_, fs, updated[j]);
+      vote_free_space(s.local, recent_[recent_.size() - back[j]].view.T_cw, p.coarse, coarse_camera_, fs,
+                      updated[j]);
     }
     std::lock_guard lock(mutex_);
     for (std::size_t j = 0; j < back.size(); ++j) stored_[stored_.size() - back[j]].votes.swap(updated[j]);
@@ -164,7 +177,8 @@ void DenseMapper::process(Pending p) {
   const double timestamp = p.kf->timestamp();
   // The sources are the original images (a repaired pixel is another keyframe's, not a new view).
   recent_.push_back(std::move(p));
-  const auto keep = static_cast<std::size_t>(std::max(params_.repair.keyframes, params_.free_space.keyframes));
+  const auto keep =
+      static_cast<std::size_t>(std::max(params_.repair.keyframes, params_.free_space.keyframes));
   while (recent_.size() > keep) recent_.pop_front();
   if (on_update_) on_update_(timestamp, keyframes);
 }
@@ -181,8 +195,9 @@ PointCloud DenseMapper::keyframe_cloud(const RgbdView& view, const cv::Mat& excl
       const float z = zrow[u];
       if (!(z > 0.0f && z <= params_.max_depth) || (xrow != nullptr && xrow[u] != 0)) continue;  // NaN too
       if (on_depth_edge(view.depth, u, v, params_.depth_edge)) continue;
-      grid.add(Eigen::Vector3f(static_cast<float>((u - cx) * z / fx), static_cast<float>((v - cy) * z / fy), z),
-               crow[u]);
+      grid.add(
+          Eigen::Vector3f(static_cast<float>((u - cx) * z / fx), static_cast<float>((v - cy) * z / fy), z),
+          crow[u]);
     }
   }
   return grid.cloud();

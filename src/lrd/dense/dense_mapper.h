@@ -27,18 +27,20 @@ class Map;
 namespace lrd::dense {
 
 struct RepairTotals {
-  std::size_t keyframes = 0;         // keyframes repaired (with a dynamic region)
-  std::size_t dynamic_pixels = 0;    // pixels inside their dynamic regions
-  std::size_t filled_pixels = 0;     // of those, filled from earlier keyframes
+  std::size_t keyframes = 0;       // keyframes repaired (with a dynamic region)
+  std::size_t dynamic_pixels = 0;  // pixels inside their dynamic regions
+  std::size_t filled_pixels = 0;   // of those, filled from earlier keyframes
   [[nodiscard]] double fill_ratio() const {
-    return dynamic_pixels == 0 ? 1.0 : static_cast<double>(filled_pixels) / static_cast<double>(dynamic_pixels);
+    return dynamic_pixels == 0 ? 1.0
+                               : static_cast<double>(filled_pixels) / static_cast<double>(dynamic_pixels);
   }
 };
 
 class DenseMapper {
  public:
   // Called in the dense thread after each keyframe's repair (for --save-repaired and evaluation).
-  using RepairCallback = std::function<void(double timestamp, const RgbdView& keyframe, const RepairResult& repair)>;
+  using RepairCallback =
+      std::function<void(double timestamp, const RgbdView& keyframe, const RepairResult& repair)>;
 
   // threaded = false: nothing runs until process_queued() (deterministic mode, tests).
   DenseMapper(map::Map& map, const camera::PinholeCamera& camera, const DenseParams& params, bool threaded);
@@ -75,8 +77,8 @@ class DenseMapper {
   };
   struct Stored {
     const map::KeyFrame* kf;
-    PointCloud local;                  // camera frame
-    std::vector<std::uint8_t> votes;   // per point: keyframes that saw through it
+    PointCloud local;                 // camera frame
+    std::vector<std::uint8_t> votes;  // per point: keyframes that saw through it
   };
 
   void run();
@@ -89,6 +91,7 @@ class DenseMapper {
   DenseParams params_;
   BackgroundRepairer repairer_;
   UpdateCallback on_update_;
+  bool failed_ = false;  // lock-step: process_queued() threw (guarded by queue_mutex_)
   util::ThreadErrors* errors_ = nullptr;
   RepairCallback on_repair_;
 

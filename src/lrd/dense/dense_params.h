@@ -8,22 +8,22 @@ namespace lrd::dense {
 
 struct RepairParams {
   bool enabled = true;
-  int keyframes = 10;              // earlier keyframes whose static pixels fill a new keyframe's dynamic region
-  double max_depth = 6.0;          // source pixels farther than this (m) are not used
-  double depth_edge = 0.05;        // source pixels on depth edges (relative jump to a neighbour) are not used
-  int pixel_stride = 2;            // every n-th source pixel in both directions, splatted over (n + 1)^2
-  double surface_band = 0.03;      // samples within this share of z behind the nearest are averaged with it
+  int keyframes = 10;          // earlier keyframes whose static pixels fill a new keyframe's dynamic region
+  double max_depth = 6.0;      // source pixels farther than this (m) are not used
+  double depth_edge = 0.05;    // source pixels on depth edges (relative jump to a neighbour) are not used
+  int pixel_stride = 2;        // every n-th source pixel in both directions, splatted over (n + 1)^2
+  double surface_band = 0.03;  // samples within this share of z behind the nearest are averaged with it
 };
 
 struct DenseParams {
-  bool enabled = false;            // the dense-mapping thread (lrdslam run --dense)
-  double voxel_size = 0.01;        // m; one point per occupied voxel, colour and position averaged
+  bool enabled = false;      // the dense-mapping thread (lrdslam run --dense)
+  double voxel_size = 0.01;  // m; one point per occupied voxel, colour and position averaged
   // m; depth beyond this stays out of the map. The sensor's noise grows with z^2: on walking_xyz
   // 4 m left 4.3 % of the points > 5 cm off the surfaces, 3.5 m 1.5 %, 3 m 0.01 % (docs/dense-map.md).
   double max_depth = 3.0;
-  int pixel_stride = 2;            // every n-th pixel in both directions enters the keyframe's cloud
-  double depth_edge = 0.05;        // pixels whose depth jumps by more than this share of z to a neighbour
-                                   // (mixed pixels at object outlines) stay out of the map
+  int pixel_stride = 2;      // every n-th pixel in both directions enters the keyframe's cloud
+  double depth_edge = 0.05;  // pixels whose depth jumps by more than this share of z to a neighbour
+                             // (mixed pixels at object outlines) stay out of the map
   RepairParams repair;
   // Points that later or earlier keyframes (the repair's neighbours) see through stay out.
   FreeSpaceParams free_space;

@@ -16,7 +16,8 @@ RgbdView coarse_view(const RgbdView& view, int factor) {
       bool dynamic = false;
       for (int dy = 0; dy < factor; ++dy) {
         const float* z = view.depth.ptr<float>(y * factor + dy) + x * factor;
-        const unsigned char* m = view.dynamic.empty() ? nullptr : view.dynamic.ptr<unsigned char>(y * factor + dy) + x * factor;
+        const unsigned char* m =
+            view.dynamic.empty() ? nullptr : view.dynamic.ptr<unsigned char>(y * factor + dy) + x * factor;
         for (int dx = 0; dx < factor; ++dx) {
           if (z[dx] > 0.0f && (nearest == 0.0f || z[dx] < nearest)) nearest = z[dx];  // NaN fails z > 0
           dynamic = dynamic || (m != nullptr && m[dx] != 0);

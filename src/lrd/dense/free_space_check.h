@@ -19,9 +19,9 @@ struct FreeSpaceParams {
   // frames), too short for a person standing in view to leave it: 1.85 % ghosts with 20, 0.18 %
   // with 40 (docs/dense-map.md).
   int keyframes = 40;
-  int step = 2;           // every step-th of them: the same span of time for half the work
-  int votes = 1;          // views that must see through a point to drop it (0: no check)
-  double margin = 0.05;   // m; plus margin_ratio x z: how far behind the point the view's surface must be
+  int step = 2;          // every step-th of them: the same span of time for half the work
+  int votes = 1;         // views that must see through a point to drop it (0: no check)
+  double margin = 0.05;  // m; plus margin_ratio x z: how far behind the point the view's surface must be
   double margin_ratio = 0.05;
 };
 

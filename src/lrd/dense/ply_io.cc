@@ -172,9 +172,11 @@ PointCloud read_ply(const fs::path& file) {
     const bool coloured = ir >= 0 && ig >= 0 && ib >= 0;
     // Binary: the count must fit the bytes there are (before allocating for it); ASCII: at
     // least two bytes per number.
-    const std::size_t min_bytes = format == "ascii" ? 2 * e.properties.size() : static_cast<std::size_t>(stride);
+    const std::size_t min_bytes =
+        format == "ascii" ? 2 * e.properties.size() : static_cast<std::size_t>(stride);
     if (e.count > remaining / std::max<std::size_t>(min_bytes, 1))
-      throw file_error(file, "truncated: " + std::to_string(e.count) + " vertices announced, the file is too short");
+      throw file_error(
+          file, "truncated: " + std::to_string(e.count) + " vertices announced, the file is too short");
     cloud.points.resize(e.count);
     if (coloured) cloud.colours.resize(e.count);
     std::vector<char> row(static_cast<std::size_t>(stride));
@@ -182,10 +184,13 @@ PointCloud read_ply(const fs::path& file) {
     for (std::size_t i = 0; i < e.count; ++i) {
       if (format == "ascii") {
         for (double& v : values)
-          if (!(in >> v)) throw file_error(file, "truncated: " + std::to_string(i) + " of " + std::to_string(e.count) + " vertices");
+          if (!(in >> v))
+            throw file_error(
+                file, "truncated: " + std::to_string(i) + " of " + std::to_string(e.count) + " vertices");
       } else {
         if (!in.read(row.data(), stride))
-          throw file_error(file, "truncated: " + std::to_string(i) + " of " + std::to_string(e.count) + " vertices");
+          throw file_error(
+              file, "truncated: " + std::to_string(i) + " of " + std::to_string(e.count) + " vertices");
         for (std::size_t k = 0; k < values.size(); ++k)
           values[k] = read_binary(row.data() + offset[k], e.properties[k].type);
       }

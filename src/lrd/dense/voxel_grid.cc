@@ -13,7 +13,8 @@ void VoxelGrid::reserve(std::size_t voxels) {
 
 void VoxelGrid::add(const Eigen::Vector3f& p, const cv::Vec3b& bgr) {
   if (!p.allFinite()) return;
-  const auto [it, inserted] = index_.try_emplace(voxel_key(p, inv_size_), static_cast<std::uint32_t>(cells_.size()));
+  const auto [it, inserted] =
+      index_.try_emplace(voxel_key(p, inv_size_), static_cast<std::uint32_t>(cells_.size()));
   if (inserted) cells_.emplace_back();
   Cell& c = cells_[it->second];
   c.sum += p.cast<double>();
@@ -36,7 +37,9 @@ PointCloud VoxelGrid::cloud() const {
   for (const Cell& c : cells_) {
     const double n = c.count;
     out.points.push_back((c.sum / n).cast<float>());
-    const auto mean = [&](std::uint32_t s) { return static_cast<unsigned char>((s + c.count / 2) / c.count); };
+    const auto mean = [&](std::uint32_t s) {
+      return static_cast<unsigned char>((s + c.count / 2) / c.count);
+    };
     out.colours.emplace_back(mean(c.b), mean(c.g), mean(c.r));
   }
   return out;

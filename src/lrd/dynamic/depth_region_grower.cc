@@ -36,7 +36,8 @@ cv::Mat grow_regions(const cv::Mat& depth, const std::vector<RegionSeed>& seeds,
         const double d = half.at<float>(y, x);
         if (d <= 0.0) continue;
         if (std::abs(d - dp) > params.step + 0.01 * dp || std::abs(d - d0) > params.band) continue;
-        if (std::abs(x - u0) * d / fx_h > params.extent || std::abs(y - v0) * d / fy_h > 1.5 * params.extent) continue;
+        if (std::abs(x - u0) * d / fx_h > params.extent || std::abs(y - v0) * d / fy_h > 1.5 * params.extent)
+          continue;
         region.at<std::uint8_t>(y, x) = 255;
         queue.emplace_back(x, y);
       }

@@ -14,14 +14,14 @@ struct RegionSeed {
 };
 
 struct RegionGrowParams {
-  double step = 0.03;    // neighbour-to-neighbour depth difference, metres (+ 1 % of depth)
-  double band = 0.35;    // largest depth difference to the seed, metres
-  double extent = 0.8;   // largest sideways distance to the seed, metres (x 1.5 vertically)
+  double step = 0.03;   // neighbour-to-neighbour depth difference, metres (+ 1 % of depth)
+  double band = 0.35;   // largest depth difference to the seed, metres
+  double extent = 0.8;  // largest sideways distance to the seed, metres (x 1.5 vertically)
 };
 
 // Works on a half-resolution copy of `depth` (CV_32FC1 metres) for speed; returns a full-size
 // CV_8UC1 mask, 255 inside the grown regions. fx, fy: the camera's focal lengths (full size).
-[[nodiscard]] cv::Mat grow_regions(const cv::Mat& depth, const std::vector<RegionSeed>& seeds, double fx, double fy,
-                                   const RegionGrowParams& params);
+[[nodiscard]] cv::Mat grow_regions(const cv::Mat& depth, const std::vector<RegionSeed>& seeds, double fx,
+                                   double fy, const RegionGrowParams& params);
 
 }  // namespace lrd::dynamic

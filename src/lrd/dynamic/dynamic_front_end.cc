@@ -1,10 +1,11 @@
 #include "lrd/dynamic/dynamic_front_end.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <opencv2/core.hpp>
-#include <spdlog/spdlog.h>
 
 #include "lrd/data/frame.h"
 #include "lrd/dynamic/mask_propagator.h"
@@ -21,9 +22,12 @@ constexpr std::size_t kRecentFrames = 30;
 
 std::unique_ptr<segmentation::Segmenter> make_segmenter(const segmentation::SegmentationParams& p) {
   switch (p.backend) {
-    case segmentation::Backend::Onnx: return std::make_unique<segmentation::OnnxSegmenter>(p.onnx);
-    case segmentation::Backend::Masks: return std::make_unique<segmentation::MaskFolderSegmenter>(p.masks);
-    case segmentation::Backend::None: break;
+    case segmentation::Backend::Onnx:
+      return std::make_unique<segmentation::OnnxSegmenter>(p.onnx);
+    case segmentation::Backend::Masks:
+      return std::make_unique<segmentation::MaskFolderSegmenter>(p.masks);
+    case segmentation::Backend::None:
+      break;
   }
   return nullptr;
 }
@@ -36,8 +40,8 @@ DynamicFrontEnd::DynamicFrontEnd(DynamicParams params, segmentation::Segmentatio
   if (segmentation_.backend == segmentation::Backend::None)
     throw Error("mode '" + to_string(params_.mode) +
                 "' needs a segmentation backend (segmentation.backend: onnx or masks; or --segmenter)");
-  worker_ = std::make_unique<segmentation::SegmentationWorker>(make_segmenter(segmentation_), segmentation_.schedule,
-                                                               camera_.rgb_order);
+  worker_ = std::make_unique<segmentation::SegmentationWorker>(make_segmenter(segmentation_),
+                                                               segmentation_.schedule, camera_.rgb_order);
 }
 
 DynamicFrontEnd::~DynamicFrontEnd() = default;
@@ -67,8 +71,14 @@ SemanticMask DynamicFrontEnd::mask(std::uint64_t id, const cv::Mat& depth,
   if (!worker_) return out;
   const bool sync = segmentation_.schedule == segmentation::Schedule::Sync;
   // A frame the network was not given (async stride) takes the newest mask without waiting.
-  const auto result = worker_->wait(
-      id, sync ? std::nullopt : std::optional<double>(network_sees(id) ? segmentation_.max_wait_ms / 1000.0 : 0.0));
+  std::optional<segmentation::SegmentationResult> result;
+  try {
+    result = worker_->wait(
+        id, sync ? std::nullopt
+                 : std::optional<double>(network_sees(id) ? segmentation_.max_wait_ms / 1000.0 : 0.0));
+  } catch (const std::exception& e) {
+    throw Error(std::string("segmentation thread: ") + e.what());
+  }
   if (!result) return out;
   cv::Mat mask = result->mask.clone();  // dilated in place below; the worker keeps its copy
   const auto age = static_cast<int>(id - result->frame_id);
@@ -89,7 +99,8 @@ SemanticMask DynamicFrontEnd::mask(std::uint64_t id, const cv::Mat& depth,
   return out;
 }
 
-GeometryStats DynamicFrontEnd::remove_moving_points(data::Frame& f, const std::vector<map::KeyFrame*>& nearby) {
+GeometryStats DynamicFrontEnd::remove_moving_points(data::Frame& f,
+                                                    const std::vector<map::KeyFrame*>& nearby) {
   const auto t0 = std::chrono::steady_clock::now();
   // In geometric mode nothing was filtered before the first estimate: judge from a pose the
   // moving objects cannot drag, and start the final optimization from it.
@@ -110,9 +121,10 @@ GeometryStats DynamicFrontEnd::remove_moving_points(data::Frame& f, const std::v
       f.dynamic_mask = merged;
     }
   }
-  spdlog::debug("frame {}: geometry check: {} keyframes, {} judged, {} moving, {} skipped (parallax), {} "
-                "keypoints removed",
-                f.id(), r.keyframes, r.judged, r.seeds, r.parallax_skipped, r.flagged_keypoints);
+  spdlog::debug(
+      "frame {}: geometry check: {} keyframes, {} judged, {} moving, {} skipped (parallax), {} "
+      "keypoints removed",
+      f.id(), r.keyframes, r.judged, r.seeds, r.parallax_skipped, r.flagged_keypoints);
   GeometryStats stats;
   stats.keypoints_removed = r.flagged_keypoints;
   stats.seeds = r.seeds;

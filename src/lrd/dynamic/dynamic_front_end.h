@@ -16,8 +16,8 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
-#include <optional>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 
 #include "lrd/camera/pinhole_camera.h"
@@ -34,9 +34,9 @@ namespace lrd::dynamic {
 
 // The segmentation mask a frame gets.
 struct SemanticMask {
-  cv::Mat mask;                  // CV_8UC1, nonzero = dynamic, dilated (empty: none yet)
-  std::int64_t mask_frame = -1;  // the frame the network saw (-1: none)
-  int mask_age = -1;             // frames between that frame and this one (-1: none)
+  cv::Mat mask;                       // CV_8UC1, nonzero = dynamic, dilated (empty: none yet)
+  std::int64_t mask_frame = -1;       // the frame the network saw (-1: none)
+  int mask_age = -1;                  // frames between that frame and this one (-1: none)
   double segmentation_seconds = 0.0;  // the network's time on it (its own thread)
 };
 
@@ -52,7 +52,9 @@ class DynamicFrontEnd final : public MovingPointCheck {
   [[nodiscard]] DynamicMode mode() const { return params_.mode; }
   [[nodiscard]] bool uses_segmentation() const { return worker_ != nullptr; }
   // The geometry check for Tracker, or null when the mode has none.
-  [[nodiscard]] MovingPointCheck* moving_point_check() { return dynamic::uses_geometry(params_.mode) ? this : nullptr; }
+  [[nodiscard]] MovingPointCheck* moving_point_check() {
+    return dynamic::uses_geometry(params_.mode) ? this : nullptr;
+  }
   // "masks (seq/mask), async" or "none".
   [[nodiscard]] std::string segmentation_description() const;
 

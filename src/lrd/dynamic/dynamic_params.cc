@@ -6,16 +6,21 @@ namespace lrd::dynamic {
 
 std::string to_string(DynamicMode m) {
   switch (m) {
-    case DynamicMode::Static: return "static";
-    case DynamicMode::Semantic: return "semantic";
-    case DynamicMode::Geometric: return "geometric";
-    case DynamicMode::Full: return "full";
+    case DynamicMode::Static:
+      return "static";
+    case DynamicMode::Semantic:
+      return "semantic";
+    case DynamicMode::Geometric:
+      return "geometric";
+    case DynamicMode::Full:
+      return "full";
   }
   return "?";
 }
 
 DynamicMode parse_mode(const std::string& name) {
-  for (DynamicMode m : {DynamicMode::Static, DynamicMode::Semantic, DynamicMode::Geometric, DynamicMode::Full})
+  for (DynamicMode m :
+       {DynamicMode::Static, DynamicMode::Semantic, DynamicMode::Geometric, DynamicMode::Full})
     if (to_string(m) == name) return m;
   throw Error("unknown mode '" + name + "' (choose static, semantic, geometric or full)");
 }
@@ -55,7 +60,8 @@ DynamicParams DynamicParams::from_config(config::NodeReader r) {
   g.check(q.grow_step > 0 && q.grow_band > 0 && q.grow_extent > 0, "grow_step",
           "grow_step, grow_band and grow_extent must be > 0");
   q.region_dilation_px = g.get("region_dilation_px", q.region_dilation_px);
-  g.check(q.region_dilation_px >= 0 && q.region_dilation_px <= 50, "region_dilation_px", "must be in [0, 50]");
+  g.check(q.region_dilation_px >= 0 && q.region_dilation_px <= 50, "region_dilation_px",
+          "must be in [0, 50]");
   q.min_keyframe_age_s = g.get("min_keyframe_age_s", q.min_keyframe_age_s);
   g.check(q.min_keyframe_age_s >= 0, "min_keyframe_age_s", "must be >= 0");
   g.finish();

@@ -20,23 +20,25 @@ enum class DynamicMode {
 [[nodiscard]] inline bool uses_segmentation(DynamicMode m) {
   return m == DynamicMode::Semantic || m == DynamicMode::Full;
 }
-[[nodiscard]] inline bool uses_geometry(DynamicMode m) { return m == DynamicMode::Geometric || m == DynamicMode::Full; }
+[[nodiscard]] inline bool uses_geometry(DynamicMode m) {
+  return m == DynamicMode::Geometric || m == DynamicMode::Full;
+}
 
 struct GeometryCheckParams {
-  int keyframes = 5;               // keyframes overlapping most with the frame are compared
-  double max_parallax_deg = 30.0;  // above: the point is not judged (occlusion risk, DynaSLAM)
-  double depth_threshold = 0.10;   // tau_z: z_proj - z' above this (metres) => dynamic
-  double depth_threshold_slope = 0.02;  // ... plus this x z_proj (depth noise grows with distance)
-  double max_depth = 6.0;          // points farther than this are not judged (noisy depth)
-  int neighbourhood = 2;           // half-size of the depth patch around the projection
+  int keyframes = 5;                     // keyframes overlapping most with the frame are compared
+  double max_parallax_deg = 30.0;        // above: the point is not judged (occlusion risk, DynaSLAM)
+  double depth_threshold = 0.10;         // tau_z: z_proj - z' above this (metres) => dynamic
+  double depth_threshold_slope = 0.02;   // ... plus this x z_proj (depth noise grows with distance)
+  double max_depth = 6.0;                // points farther than this are not judged (noisy depth)
+  int neighbourhood = 2;                 // half-size of the depth patch around the projection
   double neighbourhood_agreement = 0.7;  // share of the patch that must agree that it is closer
-  int min_seeds = 3;               // fewer flagged points around a seed are noise, not an object
-  double seed_support = 0.5;       // share of judged points around a seed that must agree
+  int min_seeds = 3;                     // fewer flagged points around a seed are noise, not an object
+  double seed_support = 0.5;             // share of judged points around a seed that must agree
   // Region growing (on a half-resolution depth image) from each flagged point.
-  double grow_step = 0.03;         // neighbour-to-neighbour depth step (m), + 1 % of depth
-  double grow_band = 0.35;         // at most this far in depth from the seed (m)
-  double grow_extent = 0.8;        // at most this far sideways from the seed (m)
-  int region_dilation_px = 5;      // the grown regions are dilated by this radius
+  double grow_step = 0.03;          // neighbour-to-neighbour depth step (m), + 1 % of depth
+  double grow_band = 0.35;          // at most this far in depth from the seed (m)
+  double grow_extent = 0.8;         // at most this far sideways from the seed (m)
+  int region_dilation_px = 5;       // the grown regions are dilated by this radius
   double min_keyframe_age_s = 0.2;  // younger keyframes show too little object motion
 };
 

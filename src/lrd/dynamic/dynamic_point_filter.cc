@@ -29,8 +29,8 @@ Eigen::Vector2d distort(const camera::PinholeCamera& cam, const Eigen::Vector2d&
 }
 }  // namespace
 
-std::vector<map::KeyFrame*> DynamicPointFilter::select_keyframes(const Eigen::Isometry3d& T_cw, double timestamp,
-                                                                 const std::vector<map::KeyFrame*>& candidates) const {
+std::vector<map::KeyFrame*> DynamicPointFilter::select_keyframes(
+    const Eigen::Isometry3d& T_cw, double timestamp, const std::vector<map::KeyFrame*>& candidates) const {
   const Eigen::Vector3d centre = T_cw.inverse().translation();
   std::vector<std::pair<double, map::KeyFrame*>> scored;
   for (map::KeyFrame* kf : candidates) {
@@ -50,7 +50,8 @@ std::vector<map::KeyFrame*> DynamicPointFilter::select_keyframes(const Eigen::Is
   return out;
 }
 
-std::optional<Eigen::Isometry3d> DynamicPointFilter::robust_pose(const data::Frame& frame, int* inliers) const {
+std::optional<Eigen::Isometry3d> DynamicPointFilter::robust_pose(const data::Frame& frame,
+                                                                 int* inliers) const {
   std::vector<cv::Point3d> object;
   std::vector<cv::Point2d> image;
   for (std::size_t i = 0; i < frame.size(); ++i) {
@@ -70,8 +71,8 @@ std::optional<Eigen::Isometry3d> DynamicPointFilter::robust_pose(const data::Fra
   cv::Rodrigues(R, rvec);
   cv::eigen2cv(Eigen::Vector3d(T.translation()), tvec);
   std::vector<int> kept;
-  const bool ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, true, 200, 2.5f, 0.999, kept,
-                                     cv::SOLVEPNP_ITERATIVE);
+  const bool ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, true, 200, 2.5f, 0.999,
+                                     kept, cv::SOLVEPNP_ITERATIVE);
   if (inliers != nullptr) *inliers = static_cast<int>(kept.size());
   if (!ok || kept.size() < std::max<std::size_t>(15, object.size() / 3)) return std::nullopt;
   cv::Rodrigues(rvec, R);
@@ -85,7 +86,8 @@ std::optional<Eigen::Isometry3d> DynamicPointFilter::robust_pose(const data::Fra
   // It corrects a drag of centimetres; a jump far from the tracker's estimate is a degenerate
   // sample (seen once in ~1000 frames, which then lost tracking), not a better pose.
   const Eigen::Isometry3d delta = out * T.inverse();
-  if (delta.translation().norm() > 0.1 || Eigen::AngleAxisd(delta.linear()).angle() > 5.0 * std::numbers::pi / 180.0)
+  if (delta.translation().norm() > 0.1 ||
+      Eigen::AngleAxisd(delta.linear()).angle() > 5.0 * std::numbers::pi / 180.0)
     return std::nullopt;
   return out;
 }

@@ -24,12 +24,12 @@ class KeyFrame;
 namespace lrd::dynamic {
 
 struct GeometryCheckResult {
-  cv::Mat mask;                 // CV_8UC1 full size, 255 = moving (empty: nothing flagged)
-  std::vector<bool> dynamic;    // per keypoint of the frame
-  int keyframes = 0;            // keyframes compared
-  int judged = 0;               // projected points with a valid depth to compare
-  int seeds = 0;                // of those, flagged as moving
-  int parallax_skipped = 0;     // not judged: parallax above the limit
+  cv::Mat mask;               // CV_8UC1 full size, 255 = moving (empty: nothing flagged)
+  std::vector<bool> dynamic;  // per keypoint of the frame
+  int keyframes = 0;          // keyframes compared
+  int judged = 0;             // projected points with a valid depth to compare
+  int seeds = 0;              // of those, flagged as moving
+  int parallax_skipped = 0;   // not judged: parallax above the limit
   int flagged_keypoints = 0;
 };
 
@@ -44,15 +44,16 @@ class DynamicPointFilter {
 
   // The `keyframes` candidates overlapping most with a camera at T_cw (nearest in position and
   // viewing direction), at least min_keyframe_age_s older than `timestamp`.
-  [[nodiscard]] std::vector<map::KeyFrame*> select_keyframes(const Eigen::Isometry3d& T_cw, double timestamp,
-                                                             const std::vector<map::KeyFrame*>& candidates) const;
+  [[nodiscard]] std::vector<map::KeyFrame*> select_keyframes(
+      const Eigen::Isometry3d& T_cw, double timestamp, const std::vector<map::KeyFrame*>& candidates) const;
 
   // A pose for the check that moving objects cannot drag (paper §2.7 asks for a first estimate
   // on filtered features; in geometric mode nothing is filtered yet, and people that walk
   // coherently bias the motion-only optimization by centimetres per frame): PnP RANSAC on the
   // frame's map-point matches, from the current estimate, keeping the dominant rigid motion.
   // Empty when too few matches agree. OpenCV's RANSAC seeds its own generator: deterministic.
-  [[nodiscard]] std::optional<Eigen::Isometry3d> robust_pose(const data::Frame& frame, int* inliers = nullptr) const;
+  [[nodiscard]] std::optional<Eigen::Isometry3d> robust_pose(const data::Frame& frame,
+                                                             int* inliers = nullptr) const;
 
   [[nodiscard]] const GeometryCheckParams& params() const { return params_; }
 

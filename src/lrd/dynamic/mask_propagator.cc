@@ -20,7 +20,8 @@ cv::Mat propagate_mask(const cv::Mat& mask, const cv::Mat& depth, const Eigen::I
   const auto fx = static_cast<float>(camera.fx), fy = static_cast<float>(camera.fy);
   const auto cx = static_cast<float>(camera.cx), cy = static_cast<float>(camera.cy);
   std::vector<float> bearing_x(static_cast<std::size_t>(mask.cols));
-  for (int u = 0; u < mask.cols; ++u) bearing_x[static_cast<std::size_t>(u)] = (static_cast<float>(u) - cx) / fx;
+  for (int u = 0; u < mask.cols; ++u)
+    bearing_x[static_cast<std::size_t>(u)] = (static_cast<float>(u) - cx) / fx;
   const auto round = [](float x) { return static_cast<int>(std::lrint(x)); };  // one instruction
   for (int v = 0; v < mask.rows; ++v) {
     const auto* m = mask.ptr<std::uint8_t>(v);
@@ -57,7 +58,8 @@ cv::Mat propagate_mask(const cv::Mat& mask, const cv::Mat& depth, const Eigen::I
 void dilate_mask(cv::Mat& mask, int radius) {
   if (radius <= 0 || mask.empty()) return;
   if (radius < 9) {
-    const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
+    const cv::Mat disc =
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
     cv::dilate(mask, mask, disc);
     return;
   }
@@ -66,7 +68,7 @@ void dilate_mask(cv::Mat& mask, int radius) {
   // resolution: radius 7 0.46 ms, 11 1.0 ms, 31 ~15 ms).
   cv::Mat half;
   cv::resize(mask, half, cv::Size((mask.cols + 1) / 2, (mask.rows + 1) / 2), 0, 0, cv::INTER_AREA);
-  half = half > 0;  // any masked pixel of a 2x2 block marks the block
+  half = half > 0;                     // any masked pixel of a 2x2 block marks the block
   const int r = (radius + 1) / 2 + 1;  // covers the full-resolution disc despite the 2x2 blocks
   const cv::Mat disc = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
   cv::dilate(half, half, disc);

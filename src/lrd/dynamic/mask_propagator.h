@@ -12,8 +12,8 @@ namespace lrd::dynamic {
 
 // `mask` CV_8UC1 (nonzero = dynamic) and `depth` CV_32FC1 metres of frame k; `T_t_k` maps frame
 // k's camera coordinates to frame t's. Returns frame t's mask (255 = dynamic), not dilated.
-[[nodiscard]] cv::Mat propagate_mask(const cv::Mat& mask, const cv::Mat& depth, const Eigen::Isometry3d& T_t_k,
-                                     const camera::PinholeCamera& camera);
+[[nodiscard]] cv::Mat propagate_mask(const cv::Mat& mask, const cv::Mat& depth,
+                                     const Eigen::Isometry3d& T_t_k, const camera::PinholeCamera& camera);
 
 // Grows nonzero pixels by a disc of `radius` pixels (in place; radius 0: unchanged).
 void dilate_mask(cv::Mat& mask, int radius);

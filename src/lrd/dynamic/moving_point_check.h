@@ -25,7 +25,8 @@ class MovingPointCheck {
   virtual ~MovingPointCheck() = default;
   // `frame` has its first pose estimate; `nearby` are the keyframes around it. The map mutex is
   // held. Removes the frame's dynamic keypoints and adds the moving pixels to its dynamic mask.
-  virtual GeometryStats remove_moving_points(data::Frame& frame, const std::vector<map::KeyFrame*>& nearby) = 0;
+  virtual GeometryStats remove_moving_points(data::Frame& frame,
+                                             const std::vector<map::KeyFrame*>& nearby) = 0;
 };
 
 }  // namespace lrd::dynamic

@@ -53,8 +53,9 @@ class PointGrid {
 
 }  // namespace
 
-std::vector<char> seen_samples(const std::vector<Eigen::Vector3f>& samples, const camera::PinholeCamera& camera,
-                               const std::vector<TruthView>& views, double max_depth) {
+std::vector<char> seen_samples(const std::vector<Eigen::Vector3f>& samples,
+                               const camera::PinholeCamera& camera, const std::vector<TruthView>& views,
+                               double max_depth) {
   std::vector<char> seen(samples.size(), 0);
   for (const TruthView& v : views) {
     const Eigen::Isometry3f T = v.T_cw.cast<float>();
@@ -74,10 +75,11 @@ std::vector<char> seen_samples(const std::vector<Eigen::Vector3f>& samples, cons
 }
 
 std::string describe(const MapAccuracy& a) {
-  return fmt::format("{:.2f} % of {} points farther than {:.0f} cm (ghosts), completeness {:.1f} % of {} seen scene "
-                     "samples, median distance {:.1f} mm",
-                     100.0 * a.ghost_ratio(), a.map_points, 100.0 * a.threshold, 100.0 * a.completeness(),
-                     a.seen_samples, 1e3 * a.median_distance);
+  return fmt::format(
+      "{:.2f} % of {} points farther than {:.0f} cm (ghosts), completeness {:.1f} % of {} seen scene "
+      "samples, median distance {:.1f} mm",
+      100.0 * a.ghost_ratio(), a.map_points, 100.0 * a.threshold, 100.0 * a.completeness(), a.seen_samples,
+      1e3 * a.median_distance);
 }
 
 MapAccuracy evaluate_map(const std::vector<Eigen::Vector3f>& map, const std::vector<Eigen::Vector3f>& scene,

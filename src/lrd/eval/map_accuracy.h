@@ -6,8 +6,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstddef>
-#include <string>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "lrd/camera/pinhole_camera.h"
@@ -39,8 +39,8 @@ struct TruthView {
 // Marks the samples seen in some view: in the image, at most max_depth away, and on the surface
 // the depth image shows there (|z - depth| within 3 cm + 1 % of z), not on a person.
 [[nodiscard]] std::vector<char> seen_samples(const std::vector<Eigen::Vector3f>& samples,
-                                             const camera::PinholeCamera& camera, const std::vector<TruthView>& views,
-                                             double max_depth);
+                                             const camera::PinholeCamera& camera,
+                                             const std::vector<TruthView>& views, double max_depth);
 
 // "0.15 % of 282757 points farther than 5 cm (ghosts), completeness 99.8 % of 32624 seen scene
 // samples, median distance 13.1 mm" — what `lrdslam run --dense` and `eval-map` print.
@@ -48,7 +48,7 @@ struct TruthView {
 
 // `map` in the scene's world frame; `seen` from seen_samples (same length as `scene`).
 [[nodiscard]] MapAccuracy evaluate_map(const std::vector<Eigen::Vector3f>& map,
-                                       const std::vector<Eigen::Vector3f>& scene, const std::vector<char>& seen,
-                                       double threshold = 0.05);
+                                       const std::vector<Eigen::Vector3f>& scene,
+                                       const std::vector<char>& seen, double threshold = 0.05);
 
 }  // namespace lrd::eval

@@ -10,7 +10,9 @@ namespace lrd::events {
 EventPublisher::EventPublisher(util::ThreadErrors& errors, std::size_t max_queued_frames)
     : errors_(errors), max_queued_frames_(max_queued_frames) {}
 
-EventPublisher::~EventPublisher() { shutdown(); }
+EventPublisher::~EventPublisher() {
+  shutdown();
+}
 
 void EventPublisher::subscribe(std::shared_ptr<Subscriber> subscriber) {
   std::lock_guard lock(mutex_);
@@ -31,7 +33,8 @@ void EventPublisher::publish(Event event) {
     ++stats_.published;
     if (max_queued_frames_ > 0) {
       const auto is_frame = [](const Event& e) { return std::holds_alternative<FrameTracked>(e); };
-      while (static_cast<std::size_t>(std::count_if(queue_.begin(), queue_.end(), is_frame)) > max_queued_frames_) {
+      while (static_cast<std::size_t>(std::count_if(queue_.begin(), queue_.end(), is_frame)) >
+             max_queued_frames_) {
         queue_.erase(std::find_if(queue_.begin(), queue_.end(), is_frame));
         ++stats_.dropped_frames;
       }
@@ -78,11 +81,16 @@ void EventPublisher::deliver(const Event& event) {
     std::visit(
         [&s](const auto& e) {
           using T = std::decay_t<decltype(e)>;
-          if constexpr (std::is_same_v<T, FrameTracked>) s->on_frame(e);
-          else if constexpr (std::is_same_v<T, KeyframeInserted>) s->on_keyframe(e);
-          else if constexpr (std::is_same_v<T, LoopClosed>) s->on_loop(e);
-          else if constexpr (std::is_same_v<T, MapChanged>) s->on_map_changed(e);
-          else s->on_dense_map(e);
+          if constexpr (std::is_same_v<T, FrameTracked>)
+            s->on_frame(e);
+          else if constexpr (std::is_same_v<T, KeyframeInserted>)
+            s->on_keyframe(e);
+          else if constexpr (std::is_same_v<T, LoopClosed>)
+            s->on_loop(e);
+          else if constexpr (std::is_same_v<T, MapChanged>)
+            s->on_map_changed(e);
+          else
+            s->on_dense_map(e);
         },
         event);
   }

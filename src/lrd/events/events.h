@@ -4,8 +4,8 @@
 // system. Delivered in order, on the publisher's own thread (events/event_publisher.h).
 #include <Eigen/Geometry>
 #include <cstdint>
-#include <optional>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -22,7 +22,9 @@ struct FrameTiming {
   double tracking = 0.0;      // pose estimation, local map, keyframe decision
   double waiting = 0.0;       // waiting for local mapping to release the map
   double mapping = 0.0;       // lock-step local mapping (deterministic mode only)
-  [[nodiscard]] double total() const { return extraction + mask_wait + geometry + tracking + waiting + mapping; }
+  [[nodiscard]] double total() const {
+    return extraction + mask_wait + geometry + tracking + waiting + mapping;
+  }
 };
 
 // One frame, tracked or not.
@@ -37,9 +39,9 @@ struct FrameTracked {
   int mask_age = -1;
   int geometric_keypoints = 0;  // keypoints the geometry check removed
   bool relocalized = false;
-  std::optional<std::uint64_t> new_keyframe;  // id of the keyframe this frame became
-  cv::Mat grey;  // the frame (CV_8UC1), its own buffer
-  cv::Mat mask;  // dynamic pixels (CV_8UC1 nonzero; empty: none)
+  std::optional<std::uint64_t> new_keyframe;   // id of the keyframe this frame became
+  cv::Mat grey;                                // the frame (CV_8UC1), its own buffer
+  cv::Mat mask;                                // dynamic pixels (CV_8UC1 nonzero; empty: none)
   std::vector<cv::Point2f> kept_keypoints;     // used for tracking (as detected)
   std::vector<cv::Point2f> removed_keypoints;  // removed by the geometry check
 };
@@ -72,9 +74,9 @@ struct LoopClosed {
 // Local mapping finished a keyframe: what it changed in the map.
 struct MapChanged {
   std::uint64_t keyframe_id = 0;
-  std::size_t keyframes = 0;   // in the map now
-  std::size_t map_points = 0;  // in the map now
-  std::size_t culled_keyframes = 0;  // so far
+  std::size_t keyframes = 0;            // in the map now
+  std::size_t map_points = 0;           // in the map now
+  std::size_t culled_keyframes = 0;     // so far
   std::size_t triangulated_points = 0;  // so far
 };
 

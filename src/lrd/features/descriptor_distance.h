@@ -18,6 +18,8 @@ inline int descriptor_distance(const std::uint8_t* a, const std::uint8_t* b) {
   return d;
 }
 
-inline int descriptor_distance(const cv::Mat& a, const cv::Mat& b) { return descriptor_distance(a.ptr(), b.ptr()); }
+inline int descriptor_distance(const cv::Mat& a, const cv::Mat& b) {
+  return descriptor_distance(a.ptr(), b.ptr());
+}
 
 }  // namespace lrd::features

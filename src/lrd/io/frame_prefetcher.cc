@@ -5,6 +5,7 @@
 #include <string>
 
 #include "lrd/util/error.h"
+#include "lrd/util/fault_injection.h"
 
 namespace lrd::io {
 namespace {
@@ -51,6 +52,7 @@ void FramePrefetcher::run() {
     std::optional<RgbdFrame> frame;
     std::exception_ptr error;
     try {
+      if (i > begin_) util::check_fault_point("prefetcher");
       frame = sequence_.load_rgbd(i, depth_factor_);
     } catch (...) {
       error = std::current_exception();

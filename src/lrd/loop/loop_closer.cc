@@ -8,13 +8,14 @@
 #include <set>
 
 #include "lrd/map/keyframe.h"
+#include "lrd/map/keyframe_database.h"
 #include "lrd/map/map.h"
 #include "lrd/map/map_point.h"
 #include "lrd/mapping/local_mapper.h"
 #include "lrd/match/orb_matcher.h"
 #include "lrd/optim/global_bundle_adjuster.h"
 #include "lrd/optim/pose_graph_optimizer.h"
-#include "lrd/place/keyframe_database.h"
+#include "lrd/util/fault_injection.h"
 
 namespace lrd::loop {
 
@@ -51,7 +52,7 @@ LoopClosingParams LoopClosingParams::from_config(config::NodeReader r,
   return p;
 }
 
-LoopCloser::LoopCloser(map::Map& map, place::KeyFrameDatabase& database, mapping::LocalMapper& mapper,
+LoopCloser::LoopCloser(map::Map& map, map::KeyFrameDatabase& database, mapping::LocalMapper& mapper,
                        LoopClosingParams params, bool threaded)
     : map_(map),
       database_(database),
@@ -75,7 +76,13 @@ void LoopCloser::insert_keyframe(map::KeyFrame* kf) {
 }
 
 void LoopCloser::process_queued() {
-  while (const auto kf = queue_.try_pop()) process(*kf);
+  if (failed_) return;  // lock-step: stopped at an error, which the caller has
+  try {
+    while (const auto kf = queue_.try_pop()) process(*kf);
+  } catch (...) {
+    failed_ = true;
+    throw;
+  }
 }
 
 void LoopCloser::shutdown() {
@@ -104,6 +111,7 @@ void LoopCloser::run() {
 }
 
 void LoopCloser::process(map::KeyFrame* kf) {
+  util::check_fault_point("loop_closing");
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<LoopEvent> event;
   {
@@ -306,6 +314,7 @@ void LoopCloser::stop_global_ba() {
 }
 
 void LoopCloser::run_global_ba(std::uint64_t run) {
+  util::check_fault_point("global_ba");
   const auto t0 = std::chrono::steady_clock::now();
   optim::GlobalBundleAdjustmentParams gp;
   gp.iterations = params_.global_ba_iterations;

@@ -27,13 +27,11 @@
 
 namespace lrd::map {
 class KeyFrame;
+class KeyFrameDatabase;
 class Map;
 }  // namespace lrd::map
 namespace lrd::mapping {
 class LocalMapper;
-}
-namespace lrd::place {
-class KeyFrameDatabase;
 }
 
 namespace lrd::loop {
@@ -71,7 +69,7 @@ struct LoopCloserStats {
 
 class LoopCloser {
  public:
-  LoopCloser(map::Map& map, place::KeyFrameDatabase& database, mapping::LocalMapper& mapper,
+  LoopCloser(map::Map& map, map::KeyFrameDatabase& database, mapping::LocalMapper& mapper,
              LoopClosingParams params, bool threaded);
   ~LoopCloser();
   LoopCloser(const LoopCloser&) = delete;
@@ -100,11 +98,12 @@ class LoopCloser {
   void stop_global_ba();
 
   map::Map& map_;
-  place::KeyFrameDatabase& database_;
+  map::KeyFrameDatabase& database_;
   mapping::LocalMapper& mapper_;
   const LoopClosingParams params_;
   const bool threaded_;
   LoopDetector detector_;  // this thread only
+  bool failed_ = false;    // lock-step: process_queued() threw
 
   util::ThreadErrors own_errors_;
   util::ThreadErrors* errors_ = &own_errors_;

@@ -6,15 +6,15 @@
 
 #include "lrd/loop/rigid_transform_ransac.h"
 #include "lrd/map/keyframe.h"
+#include "lrd/map/keyframe_database.h"
 #include "lrd/map/map_point.h"
 #include "lrd/match/bow_matcher.h"
 #include "lrd/match/orb_matcher.h"
-#include "lrd/place/keyframe_database.h"
 #include "lrd/place/vocabulary.h"
 
 namespace lrd::loop {
 
-LoopDetector::LoopDetector(place::KeyFrameDatabase& database, LoopDetectorParams params)
+LoopDetector::LoopDetector(map::KeyFrameDatabase& database, LoopDetectorParams params)
     : database_(database), params_(params) {}
 
 void LoopDetector::loop_closed(const map::KeyFrame* kf) {

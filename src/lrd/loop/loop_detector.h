@@ -18,11 +18,9 @@
 
 namespace lrd::map {
 class KeyFrame;
+class KeyFrameDatabase;
 class MapPoint;
 }  // namespace lrd::map
-namespace lrd::place {
-class KeyFrameDatabase;
-}
 
 namespace lrd::loop {
 
@@ -47,7 +45,7 @@ struct LoopDetection {
 
 class LoopDetector {
  public:
-  LoopDetector(place::KeyFrameDatabase& database, LoopDetectorParams params);
+  LoopDetector(map::KeyFrameDatabase& database, LoopDetectorParams params);
   // Call under Map::mutex() with each new keyframe (BoW computed), in keyframe order.
   std::optional<LoopDetection> detect(map::KeyFrame* kf);
   // After a loop was closed at `kf`: the next loop waits min_keyframes_between keyframes.
@@ -61,7 +59,7 @@ class LoopDetector {
   std::vector<map::KeyFrame*> consistent_candidates(const std::vector<map::KeyFrame*>& candidates);
   std::optional<LoopDetection> verify(map::KeyFrame* kf, map::KeyFrame* candidate) const;
 
-  place::KeyFrameDatabase& database_;
+  map::KeyFrameDatabase& database_;
   LoopDetectorParams params_;
   std::vector<ConsistentGroup> groups_;
   std::uint64_t last_loop_kf_ = 0;

@@ -10,7 +10,8 @@ KeyFrame* Map::create_keyframe(const data::Frame& frame) {
   return raw;
 }
 
-MapPoint* Map::create_map_point(const Eigen::Vector3d& position, KeyFrame* reference, std::uint64_t frame_id) {
+MapPoint* Map::create_map_point(const Eigen::Vector3d& position, KeyFrame* reference,
+                                std::uint64_t frame_id) {
   auto mp = std::make_unique<MapPoint>(next_point_id_++, position, reference, frame_id, this);
   MapPoint* raw = mp.get();
   all_points_.push_back(std::move(mp));

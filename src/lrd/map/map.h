@@ -36,7 +36,9 @@ class Map {
   [[nodiscard]] std::vector<MapPoint*> map_points() const;
   [[nodiscard]] std::size_t keyframe_count() const { return keyframes_.size(); }
   [[nodiscard]] std::size_t map_point_count() const { return points_.size(); }
-  [[nodiscard]] KeyFrame* first_keyframe() const { return keyframes_.empty() ? nullptr : keyframes_.begin()->second; }
+  [[nodiscard]] KeyFrame* first_keyframe() const {
+    return keyframes_.empty() ? nullptr : keyframes_.begin()->second;
+  }
   // Every keyframe ever created, including removed ones (for trajectory output).
   [[nodiscard]] KeyFrame* keyframe_by_creation(std::size_t i) const { return all_keyframes_[i].get(); }
 

@@ -85,7 +85,8 @@ void MapPoint::compute_distinctive_descriptor() {
   std::size_t best = 0;
   std::vector<int> row(n);
   for (std::size_t i = 0; i < n; ++i) {
-    std::copy(dist.begin() + static_cast<long>(i * n), dist.begin() + static_cast<long>((i + 1) * n), row.begin());
+    std::copy(dist.begin() + static_cast<long>(i * n), dist.begin() + static_cast<long>((i + 1) * n),
+              row.begin());
     std::nth_element(row.begin(), row.begin() + static_cast<long>((n - 1) / 2), row.end());
     const int median = row[(n - 1) / 2];
     if (median < best_median) {

@@ -21,8 +21,8 @@ class Map;
 
 class MapPoint {
  public:
-  MapPoint(std::uint64_t id, const Eigen::Vector3d& position, KeyFrame* reference, std::uint64_t first_frame_id,
-           Map* map);
+  MapPoint(std::uint64_t id, const Eigen::Vector3d& position, KeyFrame* reference,
+           std::uint64_t first_frame_id, Map* map);
 
   [[nodiscard]] std::uint64_t id() const { return id_; }
   [[nodiscard]] const Eigen::Vector3d& position() const { return position_; }
@@ -55,7 +55,9 @@ class MapPoint {
   // Tracking statistics: frames where the point was predicted visible, and where it was matched.
   void increase_visible(int n = 1) { visible_ += n; }
   void increase_found(int n = 1) { found_ += n; }
-  [[nodiscard]] float found_ratio() const { return static_cast<float>(found_) / static_cast<float>(visible_); }
+  [[nodiscard]] float found_ratio() const {
+    return static_cast<float>(found_) / static_cast<float>(visible_);
+  }
   [[nodiscard]] int found() const { return found_; }
 
   // The observation descriptor with the least median Hamming distance to the others.

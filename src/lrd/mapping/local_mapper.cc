@@ -7,9 +7,10 @@
 
 #include "lrd/geometry/triangulation.h"
 #include "lrd/map/keyframe.h"
+#include "lrd/map/keyframe_database.h"
 #include "lrd/map/map.h"
 #include "lrd/map/map_point.h"
-#include "lrd/place/keyframe_database.h"
+#include "lrd/util/fault_injection.h"
 
 namespace lrd::mapping {
 
@@ -59,10 +60,18 @@ void LocalMapper::insert_keyframe(map::KeyFrame* kf) {
   abort_ba_.store(true);
 }
 
-std::size_t LocalMapper::queued() const { return queue_.size(); }
+std::size_t LocalMapper::queued() const {
+  return queue_.size();
+}
 
 void LocalMapper::process_queued() {
-  while (const auto kf = queue_.try_pop()) process(*kf);
+  if (failed_) return;  // lock-step: stopped at an error, which the caller has
+  try {
+    while (const auto kf = queue_.try_pop()) process(*kf);
+  } catch (...) {
+    failed_ = true;
+    throw;
+  }
 }
 
 void LocalMapper::shutdown() {
@@ -94,6 +103,7 @@ void LocalMapper::run() {
 }
 
 void LocalMapper::process(map::KeyFrame* kf) {
+  util::check_fault_point("local_mapping");
   const auto t0 = std::chrono::steady_clock::now();
   process_new_keyframe(kf);
   cull_recent_map_points(kf);
@@ -219,9 +229,11 @@ void LocalMapper::create_new_map_points(map::KeyFrame* kf) {
       auto reprojection_ok = [&](const Eigen::Vector3d& p, const cv::KeyPoint& kp, float ur, bool stereo,
                                  const data::Frame& f) {
         const double inv_s2 = f.inv_level_sigma2()[static_cast<std::size_t>(kp.octave)];
-        return cam.reprojection_chi2(p, kp.pt.x, kp.pt.y, stereo ? ur : -1.0, inv_s2) <= (stereo ? 7.8 : 5.991);
+        return cam.reprojection_chi2(p, kp.pt.x, kp.pt.y, stereo ? ur : -1.0, inv_s2) <=
+               (stereo ? 7.8 : 5.991);
       };
-      if (!reprojection_ok(p1, kp1, ur1, stereo1, f1) || !reprojection_ok(p2, kp2, ur2, stereo2, f2)) continue;
+      if (!reprojection_ok(p1, kp1, ur1, stereo1, f1) || !reprojection_ok(p2, kp2, ur2, stereo2, f2))
+        continue;
       // Scale consistency: the distance ratio must agree with the pyramid-level ratio.
       const double dist1 = (*x - o1).norm(), dist2 = (*x - o2).norm();
       if (dist1 == 0.0 || dist2 == 0.0) continue;
@@ -257,7 +269,8 @@ void LocalMapper::search_in_neighbours(map::KeyFrame* kf) {
   }
   const std::size_t first_order = targets.size();
   for (std::size_t i = 0; i < first_order; ++i) {
-    for (map::KeyFrame* n2 : targets[i]->best_covisibles(static_cast<std::size_t>(params_.fuse_second_neighbours))) {
+    for (map::KeyFrame* n2 :
+         targets[i]->best_covisibles(static_cast<std::size_t>(params_.fuse_second_neighbours))) {
       if (n2->is_bad() || n2->fuse_target_for_kf == tag || n2 == kf) continue;
       n2->fuse_target_for_kf = tag;
       targets.push_back(n2);
@@ -276,8 +289,8 @@ void LocalMapper::search_in_neighbours(map::KeyFrame* kf) {
     }
   }
   const int fused_in = matcher_.fuse(*kf, candidates);
-  spdlog::debug("keyframe {}: fused {} points into {} neighbours, {} of {} candidates into it", kf->id(), fused_out,
-                targets.size(), fused_in, candidates.size());
+  spdlog::debug("keyframe {}: fused {} points into {} neighbours, {} of {} candidates into it", kf->id(),
+                fused_out, targets.size(), fused_in, candidates.size());
   for (map::MapPoint* mp : kf->map_points()) {
     if (mp == nullptr || mp->is_bad()) continue;
     mp->compute_distinctive_descriptor();

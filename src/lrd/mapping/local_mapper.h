@@ -22,14 +22,14 @@
 
 namespace lrd::map {
 class KeyFrame;
+class KeyFrameDatabase;
 class Map;
 class MapPoint;
 }  // namespace lrd::map
 
 namespace lrd::place {
-class KeyFrameDatabase;
 class Vocabulary;
-}  // namespace lrd::place
+}
 namespace lrd::mapping {
 
 struct LocalMapperParams {
@@ -66,7 +66,7 @@ class LocalMapper {
 
   // Place recognition: each keyframe's bag of words is computed and indexed in `database` when
   // the keyframe is processed. Set before the first keyframe.
-  void set_place_recognition(const place::Vocabulary* vocabulary, place::KeyFrameDatabase* database) {
+  void set_place_recognition(const place::Vocabulary* vocabulary, map::KeyFrameDatabase* database) {
     vocabulary_ = vocabulary;
     database_ = database;
   }
@@ -107,9 +107,10 @@ class LocalMapper {
   const bool threaded_;
   match::OrbMatcher matcher_;
   const place::Vocabulary* vocabulary_ = nullptr;
-  place::KeyFrameDatabase* database_ = nullptr;
+  map::KeyFrameDatabase* database_ = nullptr;
   KeyFrameCallback keyframe_callback_;
   std::list<map::MapPoint*> recent_points_;  // this thread only
+  bool failed_ = false;                      // lock-step: process_queued() threw
 
   util::ThreadErrors own_errors_;
   util::ThreadErrors* errors_ = &own_errors_;

@@ -17,7 +17,8 @@ std::optional<FrustumProjection> project_in_frustum(const data::Frame& f, const 
   if (!f.in_bounds(p.pixel.x(), p.pixel.y())) return std::nullopt;
   const Eigen::Vector3d po = mp.position() - T_cw.inverse().translation();
   p.distance = static_cast<float>(po.norm());
-  if (p.distance < mp.min_distance_invariance() || p.distance > mp.max_distance_invariance()) return std::nullopt;
+  if (p.distance < mp.min_distance_invariance() || p.distance > mp.max_distance_invariance())
+    return std::nullopt;
   const double dot = po.dot(mp.normal());
   if (dot < static_cast<double>(min_view_cos) * p.distance) return std::nullopt;
   p.view_cos = static_cast<float>(dot / p.distance);

@@ -25,7 +25,9 @@ struct FrustumProjection {
 // Empty unless the point lies in front of the camera (pose T_cw of view `f`), projects inside the
 // image, is within its scale-invariance distance range, and is seen at a viewing angle whose
 // cosine is at least `min_view_cos` (0.5: 60 degrees).
-[[nodiscard]] std::optional<FrustumProjection> project_in_frustum(const data::Frame& f, const Eigen::Isometry3d& T_cw,
-                                                                  const map::MapPoint& mp, float min_view_cos = 0.5f);
+[[nodiscard]] std::optional<FrustumProjection> project_in_frustum(const data::Frame& f,
+                                                                  const Eigen::Isometry3d& T_cw,
+                                                                  const map::MapPoint& mp,
+                                                                  float min_view_cos = 0.5f);
 
 }  // namespace lrd::match

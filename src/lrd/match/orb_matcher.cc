@@ -44,9 +44,12 @@ int OrbMatcher::search_by_projection(data::Frame& current, const data::Frame& la
     const int octave = last.undistorted()[i].octave;
     const float radius = th * current.scale_factors()[static_cast<std::size_t>(octave)];
     std::vector<std::size_t> cands;
-    if (forward) cands = current.features_in_area(uv.x(), uv.y(), radius, octave, -1);
-    else if (backward) cands = current.features_in_area(uv.x(), uv.y(), radius, 0, octave);
-    else cands = current.features_in_area(uv.x(), uv.y(), radius, std::max(0, octave - 1), octave + 1);
+    if (forward)
+      cands = current.features_in_area(uv.x(), uv.y(), radius, octave, -1);
+    else if (backward)
+      cands = current.features_in_area(uv.x(), uv.y(), radius, 0, octave);
+    else
+      cands = current.features_in_area(uv.x(), uv.y(), radius, std::max(0, octave - 1), octave + 1);
     if (cands.empty()) continue;
     const double u_right = uv.x() - cam.bf / pc.z();
     int best = 256;
@@ -64,7 +67,8 @@ int OrbMatcher::search_by_projection(data::Frame& current, const data::Frame& la
     current.map_points[best_idx] = mp;
     current.outliers[best_idx] = false;
     ++matches;
-    if (params_.check_orientation) hist.add(last.undistorted()[i].angle, current.undistorted()[best_idx].angle, best_idx);
+    if (params_.check_orientation)
+      hist.add(last.undistorted()[i].angle, current.undistorted()[best_idx].angle, best_idx);
   }
   if (params_.check_orientation) {
     for (const std::size_t j : hist.rejected()) {
@@ -101,7 +105,8 @@ int OrbMatcher::search_by_projection(data::Frame& current, const std::vector<map
       }
     }
     if (best > kThHigh) continue;
-    if (best_level == second_level && static_cast<float>(best) > params_.nn_ratio * static_cast<float>(second))
+    if (best_level == second_level &&
+        static_cast<float>(best) > params_.nn_ratio * static_cast<float>(second))
       continue;
     current.map_points[best_idx] = mp;
     current.outliers[best_idx] = false;
@@ -111,8 +116,8 @@ int OrbMatcher::search_by_projection(data::Frame& current, const std::vector<map
 }
 
 int OrbMatcher::search_by_projection(const map::KeyFrame& kf, const Eigen::Isometry3d& T_cw,
-                                     const std::vector<map::MapPoint*>& points, std::vector<map::MapPoint*>& matched,
-                                     float th) const {
+                                     const std::vector<map::MapPoint*>& points,
+                                     std::vector<map::MapPoint*>& matched, float th) const {
   const data::Frame& f = kf.features();
   std::vector<map::MapPoint*> already;
   for (map::MapPoint* mp : matched)
@@ -179,7 +184,8 @@ int OrbMatcher::search_by_descriptor(const map::KeyFrame& kf, data::Frame& curre
     current.map_points[j] = kf.map_point(source[j]);
     current.outliers[j] = false;
     ++matches;
-    if (params_.check_orientation) hist.add(kff.undistorted()[source[j]].angle, current.undistorted()[j].angle, j);
+    if (params_.check_orientation)
+      hist.add(kff.undistorted()[source[j]].angle, current.undistorted()[j].angle, j);
   }
   if (params_.check_orientation) {
     for (const std::size_t j : hist.rejected()) {
@@ -282,8 +288,10 @@ int OrbMatcher::fuse(map::KeyFrame& kf, const std::vector<map::MapPoint*>& point
     map::MapPoint* existing = kf.map_point(best_idx);
     if (existing != nullptr) {
       if (!existing->is_bad()) {
-        if (existing->num_observations() > mp->num_observations()) mp->replace(existing);
-        else existing->replace(mp);
+        if (existing->num_observations() > mp->num_observations())
+          mp->replace(existing);
+        else
+          existing->replace(mp);
       }
     } else {
       mp->add_observation(&kf, best_idx);

@@ -28,12 +28,15 @@ std::vector<std::size_t> RotationHistogram::rejected() const {
       m3 = s, i3 = i;
     }
   }
-  if (static_cast<double>(m2) < 0.1 * static_cast<double>(m1)) i2 = i3 = -1;
-  else if (static_cast<double>(m3) < 0.1 * static_cast<double>(m1)) i3 = -1;
+  if (static_cast<double>(m2) < 0.1 * static_cast<double>(m1))
+    i2 = i3 = -1;
+  else if (static_cast<double>(m3) < 0.1 * static_cast<double>(m1))
+    i3 = -1;
   std::vector<std::size_t> out;
   for (int i = 0; i < kBins; ++i) {
     if (i == i1 || i == i2 || i == i3) continue;
-    out.insert(out.end(), bins_[static_cast<std::size_t>(i)].begin(), bins_[static_cast<std::size_t>(i)].end());
+    out.insert(out.end(), bins_[static_cast<std::size_t>(i)].begin(),
+               bins_[static_cast<std::size_t>(i)].end());
   }
   return out;
 }

@@ -35,9 +35,10 @@ LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map:
     const std::uint64_t tag = keyframe->id();
     kfs.push_back(keyframe);
     keyframe->local_ba_for_kf = tag;
-    const auto neighbours = params.max_local_keyframes > 0
-                                ? keyframe->best_covisibles(static_cast<std::size_t>(params.max_local_keyframes))
-                                : keyframe->ordered_covisibles();
+    const auto neighbours =
+        params.max_local_keyframes > 0
+            ? keyframe->best_covisibles(static_cast<std::size_t>(params.max_local_keyframes))
+            : keyframe->ordered_covisibles();
     for (map::KeyFrame* kf : neighbours) {
       if (kf->is_bad() || kf->local_ba_for_kf == tag) continue;
       kf->local_ba_for_kf = tag;
@@ -86,8 +87,10 @@ LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map:
     std::swap(kfs[i], kfs[last]);
     std::swap(poses[i], poses[last]);
     for (Observation& o : obs) {
-      if (o.kf == i) o.kf = last;
-      else if (o.kf == last) o.kf = i;
+      if (o.kf == i)
+        o.kf = last;
+      else if (o.kf == last)
+        o.kf = i;
     }
     --n_local;
     break;

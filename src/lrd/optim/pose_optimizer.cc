@@ -53,8 +53,9 @@ double huber_weight(double chi2, double delta2) {
 }
 
 // Robust cost of the current inliers.
-double cost(const camera::PinholeCamera& cam, const std::vector<PoseObservation>& obs, const std::vector<bool>& out,
-            const Eigen::Isometry3d& T, bool robust, const PoseOptimizerParams& p) {
+double cost(const camera::PinholeCamera& cam, const std::vector<PoseObservation>& obs,
+            const std::vector<bool>& out, const Eigen::Isometry3d& T, bool robust,
+            const PoseOptimizerParams& p) {
   double c = 0.0;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (out[i]) continue;
@@ -72,8 +73,10 @@ double cost(const camera::PinholeCamera& cam, const std::vector<PoseObservation>
 
 }  // namespace
 
-PoseOptimizationResult optimize_pose(const camera::PinholeCamera& cam, const std::vector<PoseObservation>& obs,
-                                     const Eigen::Isometry3d& T_cw_initial, const PoseOptimizerParams& params) {
+PoseOptimizationResult optimize_pose(const camera::PinholeCamera& cam,
+                                     const std::vector<PoseObservation>& obs,
+                                     const Eigen::Isometry3d& T_cw_initial,
+                                     const PoseOptimizerParams& params) {
   PoseOptimizationResult result;
   result.T_cw = T_cw_initial;
   result.outlier.assign(obs.size(), false);
@@ -94,8 +97,9 @@ PoseOptimizationResult optimize_pose(const camera::PinholeCamera& cam, const std
         const Residual r = residual(cam, obs[i], T, true);
         if (!r.valid) continue;
         const double chi2 = r.chi2(obs[i].inv_sigma2);
-        const double w = obs[i].inv_sigma2 *
-                         (robust ? huber_weight(chi2, r.stereo ? params.chi2_stereo : params.chi2_mono) : 1.0);
+        const double w =
+            obs[i].inv_sigma2 *
+            (robust ? huber_weight(chi2, r.stereo ? params.chi2_stereo : params.chi2_mono) : 1.0);
         H.noalias() += w * r.J.transpose() * r.J;
         g.noalias() += w * r.J.transpose() * r.e;
       }

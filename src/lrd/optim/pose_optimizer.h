@@ -29,7 +29,7 @@ struct PoseOptimizerParams {
 
 struct PoseOptimizationResult {
   Eigen::Isometry3d T_cw = Eigen::Isometry3d::Identity();  // world-to-camera
-  std::vector<bool> outlier;                                 // per observation
+  std::vector<bool> outlier;                               // per observation
   int inliers = 0;
 };
 

@@ -1,8 +1,8 @@
 #include "lrd/runner/dense_evaluation.h"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
-#include <Eigen/SVD>
 #include <opencv2/imgcodecs.hpp>
 
 #include "lrd/dense/ply_io.h"
@@ -14,7 +14,9 @@ namespace lrd::runner {
 namespace fs = std::filesystem;
 
 namespace {
-long long micros(double t) { return std::llround(t * 1e6); }
+long long micros(double t) {
+  return std::llround(t * 1e6);
+}
 
 void write_png(const fs::path& file, const cv::Mat& img) {
   if (!cv::imwrite(file.string(), img)) throw file_error(file, "cannot write");
@@ -27,7 +29,8 @@ cv::Mat depth_png(const cv::Mat& metres, double factor) {
 }
 }  // namespace
 
-RepairRecorder::RepairRecorder(const io::TumSequence& sequence, double depth_factor, std::optional<fs::path> save_dir)
+RepairRecorder::RepairRecorder(const io::TumSequence& sequence, double depth_factor,
+                               std::optional<fs::path> save_dir)
     : sequence_(sequence), depth_factor_(depth_factor), save_dir_(std::move(save_dir)) {
   has_truth_ = fs::is_directory(sequence.dir() / "static" / "depth");
   for (std::size_t i = 0; i < sequence.size(); ++i) by_stamp_[micros(sequence.entry(i).timestamp)] = i;
@@ -38,7 +41,8 @@ RepairRecorder::RepairRecorder(const io::TumSequence& sequence, double depth_fac
   }
 }
 
-void RepairRecorder::record(double timestamp, const dense::RgbdView& keyframe, const dense::RepairResult& repair) {
+void RepairRecorder::record(double timestamp, const dense::RgbdView& keyframe,
+                            const dense::RepairResult& repair) {
   const auto it = by_stamp_.find(micros(timestamp));
   if (it == by_stamp_.end()) return;
   const io::FrameEntry& e = sequence_.entry(it->second);
@@ -86,8 +90,8 @@ RepairRecorder::DepthError RepairRecorder::depth_error() const {
 }
 
 eval::MapAccuracy evaluate_dense_map(const dense::PointCloud& map, const io::Trajectory& estimate,
-                                     const fs::path& sequence, const camera::PinholeCamera& camera, double max_depth,
-                                     double threshold, int frame_stride) {
+                                     const fs::path& sequence, const camera::PinholeCamera& camera,
+                                     double max_depth, double threshold, int frame_stride) {
   const fs::path scene_file = sequence / "scene.ply";
   if (!fs::exists(scene_file)) throw file_error(scene_file, "no scene model to judge the dense map against");
   const io::TumSequence seq = io::TumSequence::open(sequence);
@@ -97,7 +101,8 @@ eval::MapAccuracy evaluate_dense_map(const dense::PointCloud& map, const io::Tra
   try {
     ate = eval::compute_ate(gt, estimate);
   } catch (const Error& e) {
-    throw file_error(*seq.groundtruth_path(), std::string("cannot align the map's trajectory with it: ") + e.what());
+    throw file_error(*seq.groundtruth_path(),
+                     std::string("cannot align the map's trajectory with it: ") + e.what());
   }
   const dense::PointCloud scene = dense::read_ply(scene_file);
 
@@ -140,7 +145,8 @@ eval::MapAccuracy evaluate_dense_map(const dense::PointCloud& map, const io::Tra
     }
     views.push_back(std::move(v));
   }
-  if (views.empty()) throw file_error(*seq.groundtruth_path(), "no ground-truth pose at any frame's timestamp");
+  if (views.empty())
+    throw file_error(*seq.groundtruth_path(), "no ground-truth pose at any frame's timestamp");
   const std::vector<char> seen = eval::seen_samples(scene.points, camera, views, max_depth);
   return eval::evaluate_map(aligned, scene.points, seen, threshold);
 }

@@ -20,7 +20,8 @@ namespace lrd::runner {
 // filled depths with the static scene's depth where the sequence has one (static/depth/).
 class RepairRecorder {
  public:
-  RepairRecorder(const io::TumSequence& sequence, double depth_factor, std::optional<std::filesystem::path> save_dir);
+  RepairRecorder(const io::TumSequence& sequence, double depth_factor,
+                 std::optional<std::filesystem::path> save_dir);
 
   // Called in the dense thread for each repaired keyframe.
   void record(double timestamp, const dense::RgbdView& keyframe, const dense::RepairResult& repair);
@@ -52,9 +53,11 @@ class RepairRecorder {
 };
 
 // The dense map (in the estimate's world frame, aligned onto the ground truth by the rigid
-// transform that best maps the estimated camera poses onto the true ones) against `sequence`/scene.ply; the samples count as seen when every
-// `frame_stride`-th frame's depth shows them. Throws lrd::Error naming what is missing.
-[[nodiscard]] eval::MapAccuracy evaluate_dense_map(const dense::PointCloud& map, const io::Trajectory& estimate,
+// transform that best maps the estimated camera poses onto the true ones) against `sequence`/scene.ply; the
+// samples count as seen when every `frame_stride`-th frame's depth shows them. Throws lrd::Error naming what
+// is missing.
+[[nodiscard]] eval::MapAccuracy evaluate_dense_map(const dense::PointCloud& map,
+                                                   const io::Trajectory& estimate,
                                                    const std::filesystem::path& sequence,
                                                    const camera::PinholeCamera& camera, double max_depth,
                                                    double threshold = 0.05, int frame_stride = 5);

@@ -8,7 +8,10 @@
 namespace lrd::runner {
 
 ProgressBar::ProgressBar(std::size_t total, bool enabled)
-    : total_(total), enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0), start_(std::chrono::steady_clock::now()) {
+    : total_(total),
+      enabled_(enabled),
+      tty_(isatty(STDERR_FILENO) != 0),
+      start_(std::chrono::steady_clock::now()) {
   last_draw_ = start_;
 }
 
@@ -23,7 +26,9 @@ void ProgressBar::update(std::size_t done, const std::string& status) {
     const int filled = static_cast<int>(kWidth * done / total_);
     std::string bar(static_cast<std::size_t>(filled), '=');
     if (filled < kWidth) bar += '>' + std::string(static_cast<std::size_t>(kWidth - filled - 1), ' ');
-    std::fputs(fmt::format("\r[{}] {}/{} frames {:5.1f} fps  {}\x1b[K", bar, done, total_, fps, status).c_str(), stderr);
+    std::fputs(
+        fmt::format("\r[{}] {}/{} frames {:5.1f} fps  {}\x1b[K", bar, done, total_, fps, status).c_str(),
+        stderr);
     std::fflush(stderr);
     last_draw_ = now;
     drawn_ = true;
@@ -33,8 +38,10 @@ void ProgressBar::update(std::size_t done, const std::string& status) {
     if (decile == last_decile_ && drawn_) return;
     last_decile_ = decile;
     drawn_ = true;
-    std::fputs(fmt::format("{:3}% {}/{} frames {:5.1f} fps  {}\n", 100 * done / total_, done, total_, fps, status).c_str(),
-               stderr);
+    std::fputs(
+        fmt::format("{:3}% {}/{} frames {:5.1f} fps  {}\n", 100 * done / total_, done, total_, fps, status)
+            .c_str(),
+        stderr);
   }
 }
 

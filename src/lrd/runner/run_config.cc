@@ -46,7 +46,7 @@ config::Config resolve_config(const RunOptions& o, std::string* source) {
 }
 
 segmentation::SegmentationParams segmenter_preset(const std::string& name, const fs::path& sequence,
-                                                 segmentation::SegmentationParams p, const fs::path& model) {
+                                                  segmentation::SegmentationParams p, const fs::path& model) {
   using segmentation::Backend;
   if (name == "none") {
     p.backend = Backend::None;
@@ -81,9 +81,12 @@ SystemParams configure_system(const RunOptions& o, const config::Config& cfg) {
   SystemParams p = SystemParams::from_config(cfg, sopts);
   // A mode that needs masks with no segmenter configured gets the default network for the data.
   std::optional<std::string> name = o.segmenter;
-  if (!name && dynamic::uses_segmentation(p.dynamic.mode) && p.segmentation.backend == segmentation::Backend::None)
+  if (!name && dynamic::uses_segmentation(p.dynamic.mode) &&
+      p.segmentation.backend == segmentation::Backend::None)
     name = default_segmenter(o.sequence);
-  if (name) p.segmentation = segmenter_preset(*name, o.sequence, p.segmentation, o.segmenter_model.value_or(fs::path{}));
+  if (name)
+    p.segmentation =
+        segmenter_preset(*name, o.sequence, p.segmentation, o.segmenter_model.value_or(fs::path{}));
   return p;
 }
 

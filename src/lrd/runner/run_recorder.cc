@@ -1,7 +1,8 @@
 #include "lrd/runner/run_recorder.h"
 
-#include <algorithm>
 #include <fmt/format.h>
+
+#include <algorithm>
 #include <opencv2/imgcodecs.hpp>
 
 #include "lrd/util/error.h"
@@ -16,7 +17,8 @@ RunRecorder::RunRecorder(const io::TumSequence& sequence, std::size_t frames, bo
 
 void RunRecorder::on_frame(const events::FrameTracked& e) {
   const auto index = static_cast<std::size_t>(e.frame_id);
-  log_.push_back({index, e.timestamp, e.state, e.timing, e.inliers, e.mask_frame, e.mask_age, e.geometric_keypoints});
+  log_.push_back(
+      {index, e.timestamp, e.state, e.timing, e.inliers, e.mask_frame, e.mask_age, e.geometric_keypoints});
   if (save_masks_) {
     const std::filesystem::path file = *save_masks_ / sequence_.entry(index).rgb_path.filename();
     const cv::Mat m = e.mask.empty() ? cv::Mat::zeros(e.grey.size(), CV_8UC1) : e.mask;
@@ -49,8 +51,10 @@ void FlagScorer::on_frame(const events::FrameTracked& e) {
     const int v = std::clamp(cvRound(kp.pt.y), 0, truth.rows - 1);
     const std::uint8_t t = truth.at<std::uint8_t>(v, u);
     const bool flagged = !e.mask.empty() && e.mask.at<std::uint8_t>(v, u) != 0;
-    if (t != 0) (flagged ? score_.true_positive : score_.false_negative)++;
-    else (flagged ? score_.false_positive : score_.true_negative)++;
+    if (t != 0)
+      (flagged ? score_.true_positive : score_.false_negative)++;
+    else
+      (flagged ? score_.false_positive : score_.true_negative)++;
     if (t == 2) {
       ++score_.moved_object;
       score_.moved_object_flagged += flagged ? 1 : 0;
@@ -58,6 +62,8 @@ void FlagScorer::on_frame(const events::FrameTracked& e) {
   }
 }
 
-FlagScore FlagScorer::score() const { return score_; }
+FlagScore FlagScorer::score() const {
+  return score_;
+}
 
 }  // namespace lrd::runner

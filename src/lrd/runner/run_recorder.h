@@ -35,8 +35,8 @@ class RunRecorder final : public events::Subscriber {
 
 class FlagScorer final : public events::Subscriber {
  public:
-  FlagScorer(const io::TumSequence& sequence, std::filesystem::path mask_folder, const features::OrbParams& orb,
-             int stride);
+  FlagScorer(const io::TumSequence& sequence, std::filesystem::path mask_folder,
+             const features::OrbParams& orb, int stride);
   void on_frame(const events::FrameTracked& e) override;
   [[nodiscard]] FlagScore score() const;
 

@@ -1,6 +1,7 @@
 // Evaluate's outputs: per-stage statistics, track_times.txt and summary.json.
-#include <algorithm>
 #include <fmt/format.h>
+
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
@@ -21,7 +22,8 @@ double FlagScore::recall() const {
   return dynamic == 0 ? 0.0 : static_cast<double>(true_positive) / static_cast<double>(dynamic);
 }
 double FlagScore::moved_object_recall() const {
-  return moved_object == 0 ? 0.0 : static_cast<double>(moved_object_flagged) / static_cast<double>(moved_object);
+  return moved_object == 0 ? 0.0
+                           : static_cast<double>(moved_object_flagged) / static_cast<double>(moved_object);
 }
 
 namespace {
@@ -49,11 +51,12 @@ void write_track_times(const fs::path& file, const std::vector<FrameLog>& log) {
   out << "# frame timestamp extraction_ms segmentation_ms mask_wait_ms geometry_ms tracking_ms waiting_ms "
          "mapping_ms total_ms state inliers mask_frame mask_age dynamic_kps\n";
   for (const FrameLog& f : log)
-    out << fmt::format("{} {:.6f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {} {} {} {} {}\n", f.index,
-                       f.timestamp, 1e3 * f.timing.extraction, 1e3 * f.timing.segmentation, 1e3 * f.timing.mask_wait,
-                       1e3 * f.timing.geometry, 1e3 * f.timing.tracking, 1e3 * f.timing.waiting,
-                       1e3 * f.timing.mapping, 1e3 * f.timing.total(), tracking::to_string(f.state), f.inliers,
-                       f.mask_frame, f.mask_age, f.geometric_keypoints);
+    out << fmt::format("{} {:.6f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {} {} {} {} {}\n",
+                       f.index, f.timestamp, 1e3 * f.timing.extraction, 1e3 * f.timing.segmentation,
+                       1e3 * f.timing.mask_wait, 1e3 * f.timing.geometry, 1e3 * f.timing.tracking,
+                       1e3 * f.timing.waiting, 1e3 * f.timing.mapping, 1e3 * f.timing.total(),
+                       tracking::to_string(f.state), f.inliers, f.mask_frame, f.mask_age,
+                       f.geometric_keypoints);
   out.close();
   if (!out) throw file_error(file.string(), "cannot write");
 }
@@ -66,8 +69,10 @@ void summarize_log(RunReport& report) {
     seg.push_back(1e3 * f.timing.segmentation);
     mwait.push_back(1e3 * f.timing.mask_wait);
     geo.push_back(1e3 * f.timing.geometry);
-    if (f.mask_age >= 0) age_sum += f.mask_age;
-    else ++report.frames_without_mask;
+    if (f.mask_age >= 0)
+      age_sum += f.mask_age;
+    else
+      ++report.frames_without_mask;
     report.tracked += f.state == TrackingState::Ok;
     report.lost += f.state == TrackingState::Lost;
     report.not_initialized += f.state == TrackingState::NotInitialized;
@@ -90,7 +95,9 @@ void summarize_log(RunReport& report) {
 }
 
 namespace {
-nlohmann::json stage_json(const StageSummary& s) { return {{"median_ms", s.median_ms}, {"mean_ms", s.mean_ms}}; }
+nlohmann::json stage_json(const StageSummary& s) {
+  return {{"median_ms", s.median_ms}, {"mean_ms", s.mean_ms}};
+}
 
 }  // namespace
 
@@ -113,17 +120,19 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       {"segmentation", r.segmentation},
       {"mean_mask_age", r.mean_mask_age},
       {"frames_without_mask", r.frames_without_mask},
-      {"per_frame", {{"extraction", stage_json(r.extraction)},
-                     {"segmentation", stage_json(r.segmentation_time)},
-                     {"mask_wait", stage_json(r.mask_wait)},
-                     {"geometry", stage_json(r.geometry)},
-                     {"tracking", stage_json(r.tracking)},
-                     {"waiting", stage_json(r.waiting)},
-                     {"mapping", stage_json(r.mapping)},
-                     {"total", stage_json(r.total)}}},
+      {"per_frame",
+       {{"extraction", stage_json(r.extraction)},
+        {"segmentation", stage_json(r.segmentation_time)},
+        {"mask_wait", stage_json(r.mask_wait)},
+        {"geometry", stage_json(r.geometry)},
+        {"tracking", stage_json(r.tracking)},
+        {"waiting", stage_json(r.waiting)},
+        {"mapping", stage_json(r.mapping)},
+        {"total", stage_json(r.total)}}},
       {"wall_seconds", r.wall_seconds},
       {"decode_seconds", r.decode_seconds},
       {"io_wait_seconds", r.io_wait_seconds},
+      {"interrupted", r.interrupted},
   };
   j["loops"] = nlohmann::json::array();
   for (const loop::LoopEvent& e : r.loops)
@@ -134,7 +143,10 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
                           {"inliers", e.inliers},
                           {"correction_m", e.correction_m}});
   if (r.has_ground_truth) {
-    j["ate"] = {{"rmse", r.ate_rmse}, {"mean", r.ate_mean}, {"median", r.ate_median}, {"max", r.ate_max},
+    j["ate"] = {{"rmse", r.ate_rmse},
+                {"mean", r.ate_mean},
+                {"median", r.ate_median},
+                {"max", r.ate_max},
                 {"pairs", r.ate_pairs}};
     j["rpe"] = {{"trans_rmse", r.rpe_trans_rmse}, {"rot_rmse", r.rpe_rot_rmse}};
   }
@@ -160,10 +172,14 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
     }
     j["dense"] = {{"points", d.points}, {"assemble_seconds", d.assemble_seconds}, {"repair", repair}};
     if (d.map)
-      j["dense"]["map"] = {{"threshold", d.map->threshold},       {"map_points", d.map->map_points},
-                           {"ghost_points", d.map->ghost_points}, {"ghost_ratio", d.map->ghost_ratio()},
-                           {"median_distance", d.map->median_distance}, {"seen_samples", d.map->seen_samples},
-                           {"covered_samples", d.map->covered_samples}, {"completeness", d.map->completeness()}};
+      j["dense"]["map"] = {{"threshold", d.map->threshold},
+                           {"map_points", d.map->map_points},
+                           {"ghost_points", d.map->ghost_points},
+                           {"ghost_ratio", d.map->ghost_ratio()},
+                           {"median_distance", d.map->median_distance},
+                           {"seen_samples", d.map->seen_samples},
+                           {"covered_samples", d.map->covered_samples},
+                           {"completeness", d.map->completeness()}};
   }
   std::ofstream out(file);
   out << j.dump(2) << '\n';

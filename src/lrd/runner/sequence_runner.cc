@@ -8,9 +8,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
-#include <thread>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <thread>
 
 #include "lrd/config/orbslam_settings.h"
 #include "lrd/dense/cloud_renderer.h"
@@ -35,7 +35,8 @@ namespace fs = std::filesystem;
 namespace {
 // Writes the dense map and its picture, and judges repair and map where the sequence has truth.
 DenseReport finish_dense(const System& slam, const RepairRecorder& repairs, const RunOptions& o,
-                         const io::Trajectory& trajectory, const camera::PinholeCamera& camera, double max_depth) {
+                         const io::Trajectory& trajectory, const camera::PinholeCamera& camera,
+                         double max_depth) {
   DenseReport d;
   const auto t0 = std::chrono::steady_clock::now();
   const dense::PointCloud cloud = slam.dense_map();
@@ -71,11 +72,15 @@ DenseReport finish_dense(const System& slam, const RepairRecorder& repairs, cons
 namespace {
 
 // The frames through the system, as fast as they are tracked (or at the camera's pace).
-void track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o, bool rgb_order,
+// Returns false when interrupted.
+bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o, bool rgb_order,
                   std::chrono::steady_clock::time_point wall0) {
   cv::Mat rgb;
   std::optional<double> first_stamp;
-  while (auto f = frames.next()) {
+  const auto interrupted = [&o] { return o.interrupt != nullptr && o.interrupt->load(); };
+  while (!interrupted()) {
+    auto f = frames.next();
+    if (!f) return true;
     if (o.realtime) {
       // A live camera: frame k is not there before its timestamp's offset from the first frame.
       if (!first_stamp) first_stamp = f->timestamp;
@@ -83,21 +88,25 @@ void track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o
                                                 std::chrono::duration<double>(f->timestamp - *first_stamp)));
     }
     // The loader gives BGR; the system expects the camera's colour order.
-    if (rgb_order) cv::cvtColor(f->rgb, rgb, cv::COLOR_BGR2RGB);
-    else rgb = f->rgb;
+    if (rgb_order)
+      cv::cvtColor(f->rgb, rgb, cv::COLOR_BGR2RGB);
+    else
+      rgb = f->rgb;
     (void)slam.track_rgbd(rgb, f->depth, f->timestamp);
   }
+  return false;
 }
 
 // Trajectories, ATE/RPE against the sequence's ground truth, the dense map, summary.json.
 void evaluate(RunReport& report, const System& slam, const RunOptions& o, const io::TumSequence& seq,
-              const config::Config& cfg, const SystemParams& params, const std::optional<RepairRecorder>& repairs) {
+              const config::Config& cfg, const SystemParams& params,
+              const std::optional<RepairRecorder>& repairs) {
   summarize_log(report);
   report.map = slam.map_stats();
   report.loops = slam.loops();
   const io::Trajectory trajectory = slam.trajectory();
-  io::write_trajectory_tum(o.out / "CameraTrajectory.txt", trajectory);
-  slam.save_keyframe_trajectory_tum(o.out / "KeyFrameTrajectory.txt");
+  if (cfg.output.save_trajectory) io::write_trajectory_tum(o.out / "CameraTrajectory.txt", trajectory);
+  if (cfg.output.save_keyframes) slam.save_keyframe_trajectory_tum(o.out / "KeyFrameTrajectory.txt");
   write_track_times(o.out / "track_times.txt", report.log);
   if (seq.groundtruth_path() && trajectory.size() >= 2) {
     const io::Trajectory gt = io::read_trajectory_tum(*seq.groundtruth_path());
@@ -127,10 +136,13 @@ void evaluate(RunReport& report, const System& slam, const RunOptions& o, const 
 
 }  // namespace
 
-RunReport run_sequence(const RunOptions& o) {
+RunReport run_sequence(const RunOptions& options) {
   RunReport report;
   // Configure.
-  const config::Config cfg = resolve_config(o, &report.camera_source);
+  const config::Config cfg = resolve_config(options, &report.camera_source);
+  RunOptions o = options;
+  if (o.out.empty()) o.out = cfg.output.dir;
+  report.out = o.out;
   const SystemParams params = configure_system(o, cfg);
   const io::TumSequence seq = io::TumSequence::open(o.sequence);
   if (seq.size() == 0) throw file_error(o.sequence.string(), "the sequence has no frames");
@@ -173,7 +185,8 @@ RunReport run_sequence(const RunOptions& o) {
   report.segmentation = slam.segmentation_description();
 
   // Run.
-  track_frames(slam, frames, o, cfg.camera.rgb_order, wall0);
+  report.interrupted = !track_frames(slam, frames, o, cfg.camera.rgb_order, wall0);
+  if (report.interrupted) spdlog::warn("interrupted: finishing the queued work and writing the outputs");
   slam.shutdown();
   report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const io::DecodeStats ds = frames.stats();

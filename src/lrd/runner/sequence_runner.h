@@ -3,6 +3,7 @@
 // decodes frames ahead on their own thread, tracks them, writes the trajectories and per-frame
 // timings, and evaluates against the ground truth when the folder has one. `lrdslam run` and the
 // benchmarks both use it.
+#include <atomic>
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -18,16 +19,16 @@
 namespace lrd::runner {
 
 struct RunOptions {
-  std::filesystem::path sequence;               // folder with rgb.txt / depth.txt or associations.txt
+  std::filesystem::path sequence;                 // folder with rgb.txt / depth.txt or associations.txt
   std::optional<std::filesystem::path> settings;  // ORB-SLAM2/3 settings file
-  std::optional<std::string> preset;            // camera preset (tum1, tum2, tum3)
-  std::optional<std::filesystem::path> config;  // lrd-slam YAML config
-  std::filesystem::path out;                    // output folder (created)
+  std::optional<std::string> preset;              // camera preset (tum1, tum2, tum3)
+  std::optional<std::filesystem::path> config;    // lrd-slam YAML config
+  std::filesystem::path out;                      // output folder (created; empty: the config's output.dir)
   bool deterministic = false;
   std::optional<std::string> mode;       // static | semantic | geometric | full (else the config's)
   std::optional<std::string> segmenter;  // a segmenter preset (see segmenter_preset), else the config's
   std::optional<std::filesystem::path> segmenter_model;  // the preset's model file (espnetv2-voc needs it)
-  std::size_t max_frames = 0;  // 0: all
+  std::size_t max_frames = 0;                            // 0: all
   // Writes each frame's final dynamic mask (255 = dynamic) here, named like its colour image, so
   // the folder can be inspected or fed back as a `masks` backend cache.
   std::optional<std::filesystem::path> save_masks;
@@ -47,8 +48,11 @@ struct RunOptions {
   // --no-loop-closing (ablations; relocalization stays), --vocabulary FILE.
   bool no_loop_closing = false;
   std::optional<std::filesystem::path> vocabulary;
-  int flag_eval_stride = 5;    // with ground-truth masks: judge the dynamic flags on every n-th frame
-  bool progress = true;        // progress bar on stderr
+  int flag_eval_stride = 5;  // with ground-truth masks: judge the dynamic flags on every n-th frame
+  bool progress = true;      // progress bar on stderr
+  // Set (e.g. by a SIGINT handler) to stop reading frames: the run finishes the queued work and
+  // writes every output from the frames done, with `interrupted` in the report.
+  const std::atomic<bool>* interrupt = nullptr;
 };
 
 // Chooses the camera: --settings, else --preset, else the config's camera section if the config
@@ -102,8 +106,8 @@ struct StageSummary {
 };
 
 struct DenseReport {
-  std::size_t points = 0;           // in dense_map.ply
-  double assemble_seconds = 0.0;    // merging the keyframes' clouds at their final poses
+  std::size_t points = 0;         // in dense_map.ply
+  double assemble_seconds = 0.0;  // merging the keyframes' clouds at their final poses
   dense::RepairTotals repair;
   std::optional<double> repair_median_depth_error;  // m, vs static/depth (synthetic benchmark)
   std::size_t repair_compared_pixels = 0;
@@ -111,6 +115,8 @@ struct DenseReport {
 };
 
 struct RunReport {
+  std::filesystem::path out;  // the output folder written
+  bool interrupted = false;   // stopped early by RunOptions::interrupt
   std::string camera_source;
   std::size_t frames = 0;
   std::size_t tracked = 0;
@@ -119,22 +125,22 @@ struct RunReport {
   MapStats map;
   std::vector<loop::LoopEvent> loops;
   bool loop_closing = false;
-  std::string vocabulary;  // file in use ("" : none)
+  std::string vocabulary;    // file in use ("" : none)
   std::string mode;          // static | semantic | geometric | full
   std::string segmentation;  // backend and schedule
   StageSummary extraction, segmentation_time, mask_wait, geometry, tracking, waiting, mapping,
-      total;  // per frame, without decoding
+      total;                   // per frame, without decoding
   double mean_mask_age = 0.0;  // frames, over frames with a mask
   std::size_t frames_without_mask = 0;
   std::optional<FlagScore> flags;  // when the sequence has ground-truth masks
-  double wall_seconds = 0.0;    // whole run including decoding
-  double decode_seconds = 0.0;  // decoder thread's busy time
-  double io_wait_seconds = 0.0; // tracking thread waiting on decoded frames
+  double wall_seconds = 0.0;       // whole run including decoding
+  double decode_seconds = 0.0;     // decoder thread's busy time
+  double io_wait_seconds = 0.0;    // tracking thread waiting on decoded frames
   std::vector<FrameLog> log;
   bool has_ground_truth = false;
   double ate_rmse = 0.0, ate_mean = 0.0, ate_median = 0.0, ate_max = 0.0;  // metres
-  double rpe_trans_rmse = 0.0;  // m/s
-  double rpe_rot_rmse = 0.0;    // deg/s
+  double rpe_trans_rmse = 0.0;                                             // m/s
+  double rpe_rot_rmse = 0.0;                                               // deg/s
   std::size_t ate_pairs = 0;
   eval::ErrorStats ate, rpe_trans, rpe_rot;  // full statistics (m; m/s and deg/s at delta 1 s)
   std::optional<DenseReport> dense;

@@ -21,7 +21,8 @@ MaskFolderSegmenter::MaskFolderSegmenter(const MaskFolderParams& params) : param
     const std::string stem = entry.path().stem().string();
     double t = 0.0;
     const auto [end, err] = std::from_chars(stem.data(), stem.data() + stem.size(), t);
-    if (err != std::errc() || end != stem.data() + stem.size() || !std::isfinite(t)) continue;  // not a timestamp
+    if (err != std::errc() || end != stem.data() + stem.size() || !std::isfinite(t))
+      continue;  // not a timestamp
     files_.emplace(t, entry.path());
   }
   if (ec) throw file_error(params_.folder, "cannot list the mask folder: " + ec.message());
@@ -35,12 +36,15 @@ MaskFolderSegmenter::MaskFolderSegmenter(const MaskFolderParams& params) : param
   }
 }
 
-std::string MaskFolderSegmenter::describe() const { return "masks (" + params_.folder.string() + ")"; }
+std::string MaskFolderSegmenter::describe() const {
+  return "masks (" + params_.folder.string() + ")";
+}
 
 cv::Mat MaskFolderSegmenter::segment(const cv::Mat& rgb, bool /*rgb_order*/, double timestamp) {
   // Nearest name in time.
   auto it = files_.lower_bound(timestamp);
-  if (it == files_.end() || (it != files_.begin() && timestamp - std::prev(it)->first < it->first - timestamp))
+  if (it == files_.end() ||
+      (it != files_.begin() && timestamp - std::prev(it)->first < it->first - timestamp))
     it = std::prev(it);
   if (std::abs(it->first - timestamp) > params_.max_time_difference)
     throw file_error(params_.folder, fmt::format("no mask for the frame at {:.6f} (nearest: {})", timestamp,
@@ -51,7 +55,8 @@ cv::Mat MaskFolderSegmenter::segment(const cv::Mat& rgb, bool /*rgb_order*/, dou
     throw file_error(it->second, fmt::format("a mask must be an 8-bit single-channel PNG, got {}",
                                              cv::typeToString(raw.type())));
   if (raw.size() != rgb.size())
-    throw file_error(it->second, fmt::format("mask is {}x{}, the image {}x{}", raw.cols, raw.rows, rgb.cols, rgb.rows));
+    throw file_error(it->second,
+                     fmt::format("mask is {}x{}, the image {}x{}", raw.cols, raw.rows, rgb.cols, rgb.rows));
   cv::Mat mask(raw.size(), CV_8UC1);
   const std::size_t n = raw.total();
   const unsigned char* src = raw.ptr<unsigned char>();  // imread gives a continuous image

@@ -49,14 +49,17 @@ OnnxParams voc(int width, int height, const fs::path& file) {
   p.classes = voc_classes();
   p.dynamic_classes = voc_dynamic_classes();
   for (const std::string& name : p.dynamic_classes)
-    p.dynamic_ids.push_back(static_cast<int>(std::find(p.classes.begin(), p.classes.end(), name) - p.classes.begin()));
+    p.dynamic_ids.push_back(
+        static_cast<int>(std::find(p.classes.begin(), p.classes.end(), name) - p.classes.begin()));
   return p;
 }
 
 }  // namespace
 
 OnnxParams onnx_preset(const std::string& name, const fs::path& model) {
-  const auto pick = [&](const char* shipped) { return model.empty() ? util::find_project_file(shipped) : model; };
+  const auto pick = [&](const char* shipped) {
+    return model.empty() ? util::find_project_file(shipped) : model;
+  };
   if (name == "fnet") {  // RGB / 255, no mean/std; logits at half the input size (training/fnet/model.py)
     OnnxParams p = voc(160, 120, pick("models/fnet-lite.onnx"));
     p.upsample_logits = true;
@@ -68,15 +71,17 @@ OnnxParams onnx_preset(const std::string& name, const fs::path& model) {
                                          : "data/models/selfie_segmentation.onnx");
     std::error_code ec;
     if (model.empty() && !fs::is_regular_file(file, ec))
-      throw file_error(file, "the converted MediaPipe selfie model is not there: run scripts/fetch-models.sh "
-                             "(fetches the npm package and converts it to ONNX)");
+      throw file_error(file,
+                       "the converted MediaPipe selfie model is not there: run scripts/fetch-models.sh "
+                       "(fetches the npm package and converts it to ONNX)");
     return landscape ? selfie(256, 144, file) : selfie(256, 256, file);
   }
   if (name == "espnetv2-voc") {
     if (model.empty())
-      throw Error("segmenter espnetv2-voc needs its model file (ESPNetv2 on VOC, 384x288 input): "
-                  "give its path (lrdslam run --segmenter-model, lrdslam segment --model-file, or "
-                  "segmentation.onnx.model)");
+      throw Error(
+          "segmenter espnetv2-voc needs its model file (ESPNetv2 on VOC, 384x288 input): "
+          "give its path (lrdslam run --segmenter-model, lrdslam segment --model-file, or "
+          "segmentation.onnx.model)");
     OnnxParams p = voc(384, 288, model);
     p.mean = {0.485, 0.456, 0.406};  // ImageNet statistics, RGB
     p.std = {0.229, 0.224, 0.225};

@@ -23,5 +23,4 @@ namespace lrd::segmentation {
 // a selfie model has not been converted yet (saying how); OnnxSegmenter checks the file itself.
 [[nodiscard]] OnnxParams onnx_preset(const std::string& name, const std::filesystem::path& model = {});
 
-
 }  // namespace lrd::segmentation

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <opencv2/imgproc.hpp>
-
 #include <optional>
 
 #include "lrd/segmentation/own_kernels.h"
@@ -54,7 +53,9 @@ OnnxSegmenter::OnnxSegmenter(const OnnxParams& params) : params_(params) {
   check_output(forward(probe, true));
 }
 
-std::string OnnxSegmenter::describe() const { return "onnx (" + params_.model.string() + ")"; }
+std::string OnnxSegmenter::describe() const {
+  return "onnx (" + params_.model.string() + ")";
+}
 
 cv::Mat OnnxSegmenter::blob(const cv::Mat& rgb, bool rgb_order) const {
   // Resize first: every later step then works on the network's few pixels, not the camera's.

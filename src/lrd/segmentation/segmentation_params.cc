@@ -11,9 +11,9 @@ namespace fs = std::filesystem;
 
 const std::vector<std::string>& voc_classes() {
   static const std::vector<std::string> names{
-      "background", "aeroplane", "bicycle", "bird",  "boat",        "bottle", "bus",
-      "car",        "cat",       "chair",   "cow",   "diningtable", "dog",    "horse",
-      "motorbike",  "person",    "pottedplant", "sheep", "sofa",    "train",  "tvmonitor"};
+      "background", "aeroplane", "bicycle",     "bird",  "boat",        "bottle", "bus",
+      "car",        "cat",       "chair",       "cow",   "diningtable", "dog",    "horse",
+      "motorbike",  "person",    "pottedplant", "sheep", "sofa",        "train",  "tvmonitor"};
   return names;
 }
 
@@ -24,14 +24,19 @@ const std::vector<std::string>& voc_dynamic_classes() {
 
 std::string to_string(Backend b) {
   switch (b) {
-    case Backend::None: return "none";
-    case Backend::Onnx: return "onnx";
-    case Backend::Masks: return "masks";
+    case Backend::None:
+      return "none";
+    case Backend::Onnx:
+      return "onnx";
+    case Backend::Masks:
+      return "masks";
   }
   return "?";
 }
 
-std::string to_string(Schedule s) { return s == Schedule::Sync ? "sync" : "async"; }
+std::string to_string(Schedule s) {
+  return s == Schedule::Sync ? "sync" : "async";
+}
 
 namespace {
 fs::path resolve(const fs::path& p, const fs::path& base_dir) {
@@ -62,9 +67,11 @@ SegmentationParams SegmentationParams::from_config(config::NodeReader r, const f
   const auto preset = r.get<std::string>("preset", "");
   r.check(preset.empty() || is_onnx_preset(preset), "preset",
           "names no onnx preset (fnet, selfie, selfie-landscape, espnetv2-voc; got '" + preset + "')");
-  p.backend = parse_choice<Backend>(r, "backend", preset.empty() ? "none" : "onnx",
-                                    {{"none", Backend::None}, {"onnx", Backend::Onnx}, {"masks", Backend::Masks}});
-  p.schedule = parse_choice<Schedule>(r, "schedule", "async", {{"async", Schedule::Async}, {"sync", Schedule::Sync}});
+  p.backend =
+      parse_choice<Backend>(r, "backend", preset.empty() ? "none" : "onnx",
+                            {{"none", Backend::None}, {"onnx", Backend::Onnx}, {"masks", Backend::Masks}});
+  p.schedule =
+      parse_choice<Schedule>(r, "schedule", "async", {{"async", Schedule::Async}, {"sync", Schedule::Sync}});
   p.max_wait_ms = r.get("max_wait_ms", p.max_wait_ms);
   r.check(p.max_wait_ms >= 0, "max_wait_ms", "must be >= 0");
   p.stride = r.get("stride", p.stride);
@@ -74,7 +81,8 @@ SegmentationParams SegmentationParams::from_config(config::NodeReader r, const f
   p.age_dilation_px = r.get("age_dilation_px", p.age_dilation_px);
   r.check(p.age_dilation_px >= 0, "age_dilation_px", "must be >= 0");
   p.max_age_dilation_px = r.get("max_age_dilation_px", p.max_age_dilation_px);
-  r.check(p.max_age_dilation_px >= 0 && p.max_age_dilation_px <= 100, "max_age_dilation_px", "must be in [0, 100]");
+  r.check(p.max_age_dilation_px >= 0 && p.max_age_dilation_px <= 100, "max_age_dilation_px",
+          "must be in [0, 100]");
 
   {
     config::NodeReader o = r.section("onnx");
@@ -95,8 +103,8 @@ SegmentationParams SegmentationParams::from_config(config::NodeReader r, const f
     q.mean = o.get("mean", q.mean);
     o.check(q.mean.size() == 3, "mean", "must have 3 values");
     q.std = o.get("std", q.std);
-    o.check(q.std.size() == 3 && std::all_of(q.std.begin(), q.std.end(), [](double s) { return s > 0; }), "std",
-            "must have 3 positive values");
+    o.check(q.std.size() == 3 && std::all_of(q.std.begin(), q.std.end(), [](double s) { return s > 0; }),
+            "std", "must have 3 positive values");
     const auto order = o.get<std::string>("input_order", q.input_rgb ? "rgb" : "bgr");
     o.check(order == "rgb" || order == "bgr", "input_order", "must be rgb or bgr");
     q.input_rgb = order == "rgb";
@@ -117,7 +125,8 @@ SegmentationParams SegmentationParams::from_config(config::NodeReader r, const f
     } else {
       for (const std::string& name : q.dynamic_classes) {
         const auto it = std::find(q.classes.begin(), q.classes.end(), name);
-        o.check(it != q.classes.end(), "dynamic_classes", "names '" + name + "', which is not among the classes");
+        o.check(it != q.classes.end(), "dynamic_classes",
+                "names '" + name + "', which is not among the classes");
         q.dynamic_ids.push_back(static_cast<int>(it - q.classes.begin()));
       }
     }

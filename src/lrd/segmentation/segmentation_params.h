@@ -21,13 +21,13 @@ enum class OutputLayout {
 };
 
 struct OnnxParams {
-  std::filesystem::path model;     // resolved: absolute, or relative to the working directory
-  int input_width = 160;           // the network's input size (fnet-lite's)
+  std::filesystem::path model;  // resolved: absolute, or relative to the working directory
+  int input_width = 160;        // the network's input size (fnet-lite's)
   int input_height = 120;
-  double scale = 1.0 / 255.0;      // pixel value x scale, then (x - mean) / std per channel
+  double scale = 1.0 / 255.0;               // pixel value x scale, then (x - mean) / std per channel
   std::vector<double> mean{0.0, 0.0, 0.0};  // in the network's channel order
   std::vector<double> std{1.0, 1.0, 1.0};
-  bool input_rgb = true;           // the network wants RGB (false: BGR)
+  bool input_rgb = true;  // the network wants RGB (false: BGR)
   OutputLayout output = OutputLayout::Logits;
   std::vector<std::string> classes;          // index -> name
   std::vector<std::string> dynamic_classes;  // names counted as dynamic
@@ -44,8 +44,8 @@ struct OnnxParams {
 };
 
 struct MaskFolderParams {
-  std::filesystem::path folder;     // one PNG per frame, named by its timestamp (TUM rgb names)
-  std::vector<int> dynamic_values;  // pixel values counted as dynamic; empty: any nonzero
+  std::filesystem::path folder;        // one PNG per frame, named by its timestamp (TUM rgb names)
+  std::vector<int> dynamic_values;     // pixel values counted as dynamic; empty: any nonzero
   double max_time_difference = 0.002;  // seconds between the frame and the mask's name
 };
 
@@ -58,7 +58,7 @@ struct SegmentationParams {
   // async: the network gets every stride-th frame, the others take its mask carried over. 2
   // (measured on 2 cores): half the network's CPU, same ATE, the frames between run without it.
   int stride = 2;
-  int dilation_px = 7;        // masks grow by this radius (people's outlines, blur)
+  int dilation_px = 7;  // masks grow by this radius (people's outlines, blur)
   // async: extra dilation per frame of mask age (motion the propagation cannot predict), capped.
   double age_dilation_px = 4.0;
   int max_age_dilation_px = 24;
@@ -67,7 +67,8 @@ struct SegmentationParams {
 
   // Reads the `segmentation` section; relative paths resolve against `base_dir` (the config
   // file's folder) when the file exists there, else against the working directory.
-  static SegmentationParams from_config(config::NodeReader reader, const std::filesystem::path& base_dir = {});
+  static SegmentationParams from_config(config::NodeReader reader,
+                                        const std::filesystem::path& base_dir = {});
 };
 
 // The 21 Pascal VOC classes (0 = background, 15 = person).

@@ -3,15 +3,19 @@
 #include <chrono>
 
 #include "lrd/util/error.h"
+#include "lrd/util/fault_injection.h"
 
 namespace lrd::segmentation {
 
-SegmentationWorker::SegmentationWorker(std::unique_ptr<Segmenter> segmenter, Schedule schedule, bool rgb_order)
+SegmentationWorker::SegmentationWorker(std::unique_ptr<Segmenter> segmenter, Schedule schedule,
+                                       bool rgb_order)
     : segmenter_(std::move(segmenter)), schedule_(schedule), rgb_order_(rgb_order) {
   thread_ = std::thread([this] { run(); });
 }
 
-SegmentationWorker::~SegmentationWorker() { shutdown(); }
+SegmentationWorker::~SegmentationWorker() {
+  shutdown();
+}
 
 void SegmentationWorker::shutdown() {
   {
@@ -40,7 +44,8 @@ std::size_t SegmentationWorker::skipped() const {
   return skipped_;
 }
 
-std::optional<SegmentationResult> SegmentationWorker::wait(std::uint64_t frame_id, std::optional<double> timeout_s) {
+std::optional<SegmentationResult> SegmentationWorker::wait(std::uint64_t frame_id,
+                                                           std::optional<double> timeout_s) {
   std::unique_lock lock(mutex_);
   auto done = [&] { return error_ || stop_ || (newest_ && newest_->frame_id >= frame_id); };
   if (timeout_s) {
@@ -68,6 +73,7 @@ void SegmentationWorker::run() {
     result.timestamp = req.timestamp;
     try {
       const auto t0 = std::chrono::steady_clock::now();
+      util::check_fault_point("segmentation");
       result.mask = segmenter_->segment(req.rgb, rgb_order_, req.timestamp);
       result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     } catch (const Error&) {

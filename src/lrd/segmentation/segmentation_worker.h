@@ -38,7 +38,8 @@ class SegmentationWorker {
   // The newest result for a frame <= frame_id, once frame_id's own is ready or `timeout_s` has
   // passed (no timeout: wait for it). Empty when nothing has finished yet. Rethrows the
   // segmenter's error (e.g. a missing mask file) as lrd::Error.
-  [[nodiscard]] std::optional<SegmentationResult> wait(std::uint64_t frame_id, std::optional<double> timeout_s);
+  [[nodiscard]] std::optional<SegmentationResult> wait(std::uint64_t frame_id,
+                                                       std::optional<double> timeout_s);
   // Requests replaced by newer ones before the segmenter got to them (async only).
   [[nodiscard]] std::size_t skipped() const;
   [[nodiscard]] const Segmenter& segmenter() const { return *segmenter_; }

@@ -1,23 +1,24 @@
 #include "lrd/synth/camera_motion.h"
 
-#include "lrd/synth/portable_random.h"
-
 #include <cmath>
+
+#include "lrd/synth/portable_random.h"
 
 namespace lrd::synth {
 namespace {
 constexpr double kTwoPi = 2.0 * M_PI;
-const Eigen::Vector3d kBase(2.2, 2.5, 1.35);     // where the walking/sitting presets' camera stands
-const Eigen::Vector3d kTarget(5.2, 2.5, 0.85);   // the desk
+const Eigen::Vector3d kBase(2.2, 2.5, 1.35);    // where the walking/sitting presets' camera stands
+const Eigen::Vector3d kTarget(5.2, 2.5, 0.85);  // the desk
 }  // namespace
 
-CameraMotion::CameraMotion(MotionKind kind, double duration, std::uint64_t seed) : kind_(kind), duration_(duration) {
+CameraMotion::CameraMotion(MotionKind kind, double duration, std::uint64_t seed)
+    : kind_(kind), duration_(duration) {
   PortableRandom rng(seed * 0x2545F4914F6CDD1Dull + 17);
   for (double& p : phase_) p = rng.uniform(0.0, kTwoPi);
 }
 
-Eigen::Isometry3d CameraMotion::look_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target, double yaw,
-                                        double pitch, double roll) {
+Eigen::Isometry3d CameraMotion::look_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target,
+                                        double yaw, double pitch, double roll) {
   const Eigen::Vector3d z = (target - position).normalized();
   const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
   const Eigen::Vector3d y = z.cross(x);
@@ -37,16 +38,18 @@ Eigen::Isometry3d CameraMotion::look_at(const Eigen::Vector3d& position, const E
 
 Eigen::Vector3d CameraMotion::tremor_position(double t) const {
   // A hand-held camera never stands perfectly still: a few millimetres of multi-sine tremor.
-  return 0.002 * Eigen::Vector3d(std::sin(kTwoPi * 1.3 * t + phase_[0]) + 0.5 * std::sin(kTwoPi * 3.1 * t + phase_[1]),
-                                 std::sin(kTwoPi * 1.1 * t + phase_[2]) + 0.5 * std::sin(kTwoPi * 2.7 * t + phase_[3]),
-                                 std::sin(kTwoPi * 0.9 * t + phase_[4]) + 0.5 * std::sin(kTwoPi * 2.3 * t + phase_[5]));
+  return 0.002 * Eigen::Vector3d(
+                     std::sin(kTwoPi * 1.3 * t + phase_[0]) + 0.5 * std::sin(kTwoPi * 3.1 * t + phase_[1]),
+                     std::sin(kTwoPi * 1.1 * t + phase_[2]) + 0.5 * std::sin(kTwoPi * 2.7 * t + phase_[3]),
+                     std::sin(kTwoPi * 0.9 * t + phase_[4]) + 0.5 * std::sin(kTwoPi * 2.3 * t + phase_[5]));
 }
 
 Eigen::Vector3d CameraMotion::tremor_angles(double t) const {
   const double a = 0.003;  // radians (~0.2 degrees)
-  return a * Eigen::Vector3d(std::sin(kTwoPi * 0.7 * t + phase_[6]) + 0.5 * std::sin(kTwoPi * 2.9 * t + phase_[7]),
-                             std::sin(kTwoPi * 0.8 * t + phase_[8]) + 0.5 * std::sin(kTwoPi * 2.1 * t + phase_[9]),
-                             std::sin(kTwoPi * 0.6 * t + phase_[10]) + 0.5 * std::sin(kTwoPi * 1.9 * t + phase_[11]));
+  return a * Eigen::Vector3d(
+                 std::sin(kTwoPi * 0.7 * t + phase_[6]) + 0.5 * std::sin(kTwoPi * 2.9 * t + phase_[7]),
+                 std::sin(kTwoPi * 0.8 * t + phase_[8]) + 0.5 * std::sin(kTwoPi * 2.1 * t + phase_[9]),
+                 std::sin(kTwoPi * 0.6 * t + phase_[10]) + 0.5 * std::sin(kTwoPi * 1.9 * t + phase_[11]));
 }
 
 Eigen::Isometry3d CameraMotion::pose_at(double t) const {
@@ -56,12 +59,14 @@ Eigen::Isometry3d CameraMotion::pose_at(double t) const {
   switch (kind_) {
     case MotionKind::kStill: {
       // The "static" TUM sequences still drift by a centimetre or so.
-      const Eigen::Vector3d drift(0.006 * std::sin(kTwoPi * t / 11.0 + phase_[0]), 0.008 * std::sin(kTwoPi * t / 13.0 + phase_[1]),
+      const Eigen::Vector3d drift(0.006 * std::sin(kTwoPi * t / 11.0 + phase_[0]),
+                                  0.008 * std::sin(kTwoPi * t / 13.0 + phase_[1]),
                                   0.004 * std::sin(kTwoPi * t / 9.0 + phase_[2]));
       return look_at(kBase + drift + tp, kTarget, ta.x(), ta.y(), ta.z());
     }
     case MotionKind::kXyz: {
-      const Eigen::Vector3d d(0.22 * std::sin(kTwoPi * t / 8.5 + phase_[0]), 0.35 * std::sin(kTwoPi * t / 6.3 + phase_[1]),
+      const Eigen::Vector3d d(0.22 * std::sin(kTwoPi * t / 8.5 + phase_[0]),
+                              0.35 * std::sin(kTwoPi * t / 6.3 + phase_[1]),
                               0.15 * std::sin(kTwoPi * t / 7.1 + phase_[2]));
       // Translation with a nearly constant viewing direction, as in TUM's xyz sequences.
       return look_at(kBase + d + tp, kBase + d + 3.0 * forward, ta.x() + 0.02 * std::sin(kTwoPi * t / 5.0),
@@ -79,8 +84,10 @@ Eigen::Isometry3d CameraMotion::pose_at(double t) const {
       const double el = 0.45 + 0.4 * std::sin(kTwoPi * t / 7.7 + phase_[1]);
       const Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(forward).normalized();
       const Eigen::Vector3d up = forward.cross(left);
-      const Eigen::Vector3d p = kBase + 0.5 * (-std::cos(el) * std::cos(az) * forward + std::cos(el) * std::sin(az) * left +
-                                               std::sin(el) * up) + 0.5 * forward;
+      const Eigen::Vector3d p = kBase +
+                                0.5 * (-std::cos(el) * std::cos(az) * forward +
+                                       std::cos(el) * std::sin(az) * left + std::sin(el) * up) +
+                                0.5 * forward;
       return look_at(p + tp, kTarget, ta.x(), ta.y(), ta.z());
     }
     case MotionKind::kLoop: {

@@ -20,8 +20,8 @@ class CameraMotion {
 
   // Pose at `position` looking at `target`, world z up, then rotated by yaw/pitch/roll in the
   // camera frame.
-  static Eigen::Isometry3d look_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target, double yaw = 0,
-                                   double pitch = 0, double roll = 0);
+  static Eigen::Isometry3d look_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target,
+                                   double yaw = 0, double pitch = 0, double roll = 0);
 
  private:
   [[nodiscard]] Eigen::Vector3d tremor_position(double t) const;

@@ -22,7 +22,8 @@ SurfaceStyle style(const TextureLibrary& tex, const char* name, float m, std::ui
 
 }  // namespace
 
-void add_chair(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isometry3f& pose, MaskLabel label) {
+void add_chair(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isometry3f& pose,
+               MaskLabel label) {
   const SurfaceStyle fabric = style(tex, "plaid_blue", 0.4f, voc::kChair, label);
   const SurfaceStyle metal = style(tex, "metal", 0.3f, voc::kChair, label, 0.7f);
   soup.add_box(at(pose, 0, 0, 0.45f), {0.46f, 0.46f, 0.06f}, fabric);
@@ -31,7 +32,8 @@ void add_chair(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isome
     for (float sy : {-0.19f, 0.19f}) soup.add_box(at(pose, sx, sy, 0.21f), {0.035f, 0.035f, 0.42f}, metal);
 }
 
-void add_desk(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isometry3f& pose, float length, float depth) {
+void add_desk(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isometry3f& pose, float length,
+              float depth) {
   const SurfaceStyle wood = style(tex, "wood_furniture", 0.8f, voc::kDiningTable);
   const SurfaceStyle metal = style(tex, "metal", 0.3f, voc::kDiningTable, MaskLabel::kStatic, 0.6f);
   soup.add_box(at(pose, 0, 0, 0.74f), {depth, length, 0.04f}, wood);
@@ -62,7 +64,8 @@ void add_bookshelf(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::I
   const SurfaceStyle books = style(tex, "books", 0.7f, voc::kBackground);
   const float depth = 0.35f;
   soup.add_box(at(pose, -0.5f * depth + 0.01f, 0, 0.5f * height), {0.02f, width, height}, wood);
-  for (float sy : {-0.5f * width, 0.5f * width}) soup.add_box(at(pose, 0, sy, 0.5f * height), {depth, 0.03f, height}, wood);
+  for (float sy : {-0.5f * width, 0.5f * width})
+    soup.add_box(at(pose, 0, sy, 0.5f * height), {depth, 0.03f, height}, wood);
   const int shelves = 5;
   for (int i = 0; i <= shelves; ++i) {
     const float z = 0.02f + (height - 0.04f) * static_cast<float>(i) / shelves;
@@ -83,7 +86,8 @@ void add_cabinet(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Iso
   soup.add_box(at(pose, 0, 0, 0.5f), {0.5f, 1.0f, 1.0f}, wood, &items);
   const SurfaceStyle metal = style(tex, "metal", 0.2f, voc::kBackground, MaskLabel::kStatic, 1.3f);
   for (float z : {0.3f, 0.7f}) soup.add_box(at(pose, 0.26f, 0, z), {0.02f, 0.3f, 0.03f}, metal);
-  soup.add_box(at(pose, 0, 0.25f, 1.15f), {0.25f, 0.3f, 0.3f}, style(tex, "cardboard", 0.3f, voc::kBackground));
+  soup.add_box(at(pose, 0, 0.25f, 1.15f), {0.25f, 0.3f, 0.3f},
+               style(tex, "cardboard", 0.3f, voc::kBackground));
 }
 
 void add_sofa(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isometry3f& pose) {

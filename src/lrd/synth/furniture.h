@@ -11,7 +11,8 @@ namespace lrd::synth::furniture {
 // `label` marks a piece that is being moved (walking_pushed); static pieces keep kStatic.
 void add_chair(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isometry3f& pose,
                MaskLabel label = MaskLabel::kStatic);
-void add_desk(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isometry3f& pose, float length, float depth);
+void add_desk(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isometry3f& pose, float length,
+              float depth);
 void add_monitor(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isometry3f& pose);
 void add_bookshelf(TriangleSoup& soup, const TextureLibrary& tex, const Eigen::Isometry3f& pose, float width,
                    float height);

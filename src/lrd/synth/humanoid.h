@@ -19,7 +19,7 @@ struct Appearance {
 // positive knee/elbow flex bends the joint the natural way.
 struct BodyPose {
   Eigen::Isometry3f root = Eigen::Isometry3f::Identity();  // on the floor under the pelvis, +x forward
-  float pelvis_height = 0.93f;  // for a 1.75 m person; scaled with the height
+  float pelvis_height = 0.93f;                             // for a 1.75 m person; scaled with the height
   float torso_pitch = 0.0f, torso_roll = 0.0f, torso_yaw = 0.0f;
   float head_pitch = 0.0f, head_yaw = 0.0f;
   std::array<float, 2> hip_pitch{}, hip_roll{}, knee{};

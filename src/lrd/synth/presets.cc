@@ -18,8 +18,8 @@ class Draw : public PortableRandom {
 };
 
 Appearance random_look(const TextureLibrary& tex, Draw& d, int index) {
-  static const char* shirts[] = {"plaid_red", "plaid_blue", "stripes_shirt", "stripes_green", "clothes_print",
-                                 "clothes_flowers"};
+  static const char* shirts[] = {"plaid_red",     "plaid_blue",    "stripes_shirt",
+                                 "stripes_green", "clothes_print", "clothes_flowers"};
   static const char* trousers[] = {"denim", "trousers_dark"};
   static const char* skins[] = {"skin_light", "skin_dark"};
   static const char* hairs[] = {"hair_dark", "hair_brown"};
@@ -41,17 +41,23 @@ using P = Eigen::Vector2f;
 
 const std::vector<PresetSpec>& preset_specs() {
   static const std::vector<PresetSpec> specs = {
-      {"walking_static", 743, MotionKind::kStill, Cast::kWalkers, "two people walk around the desk; camera nearly still"},
-      {"walking_xyz", 859, MotionKind::kXyz, Cast::kWalkers, "two people walk; camera translates along x, y, z"},
-      {"walking_rpy", 910, MotionKind::kRpy, Cast::kWalkers, "two people walk; camera rotates in roll, pitch, yaw"},
+      {"walking_static", 743, MotionKind::kStill, Cast::kWalkers,
+       "two people walk around the desk; camera nearly still"},
+      {"walking_xyz", 859, MotionKind::kXyz, Cast::kWalkers,
+       "two people walk; camera translates along x, y, z"},
+      {"walking_rpy", 910, MotionKind::kRpy, Cast::kWalkers,
+       "two people walk; camera rotates in roll, pitch, yaw"},
       {"walking_halfsphere", 1067, MotionKind::kHalfsphere, Cast::kWalkers,
        "two people walk; camera moves on a half sphere of ~1 m diameter"},
-      {"sitting_static", 707, MotionKind::kStill, Cast::kSitters, "two seated people talk and gesture; camera nearly still"},
-      {"sitting_xyz", 1261, MotionKind::kXyz, Cast::kSitters, "two seated people; camera translates along x, y, z"},
+      {"sitting_static", 707, MotionKind::kStill, Cast::kSitters,
+       "two seated people talk and gesture; camera nearly still"},
+      {"sitting_xyz", 1261, MotionKind::kXyz, Cast::kSitters,
+       "two seated people; camera translates along x, y, z"},
       {"sitting_halfsphere", 1110, MotionKind::kHalfsphere, Cast::kSitters,
        "two seated people; camera moves on a half sphere"},
       {"static_xyz", 1000, MotionKind::kXyz, Cast::kNobody, "empty room; camera translates along x, y, z"},
-      {"static_halfsphere", 1000, MotionKind::kHalfsphere, Cast::kNobody, "empty room; camera on a half sphere"},
+      {"static_halfsphere", 1000, MotionKind::kHalfsphere, Cast::kNobody,
+       "empty room; camera on a half sphere"},
       {"static_loop", 1000, MotionKind::kLoop, Cast::kNobody, "empty room; camera circles the room twice"},
       {"walking_loop", 1000, MotionKind::kLoop, Cast::kLoopWalkers,
        "two people walk around the room while the camera circles it twice"},
@@ -70,7 +76,8 @@ const PresetSpec& find_preset(const std::string& name) {
   throw Error("unknown synthetic preset '" + name + "' (valid: " + names + ")");
 }
 
-SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex, std::uint64_t seed, double fps) {
+SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex, std::uint64_t seed,
+                               double fps) {
   SceneScript script;
   const double duration = spec.default_frames / fps;
   script.camera = std::make_unique<CameraMotion>(spec.motion, duration, seed);
@@ -82,7 +89,8 @@ SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex
   const std::vector<P> around_desk = {P(3.95f, 0.8f), P(3.95f, 4.2f), P(5.62f, 4.35f), P(5.66f, 0.65f)};
   const std::vector<P> front_loop = {P(3.25f, 1.95f), P(3.27f, 3.05f), P(3.5f, 3.07f), P(3.48f, 1.93f)};
   const std::vector<P> room_loop = {P(1.2f, 4.05f), P(4.05f, 4.1f), P(4.0f, 0.9f), P(1.25f, 0.95f)};
-  auto walker = [&](const std::vector<P>& path, float start_fraction, CarriedProp prop, int index, float speed) {
+  auto walker = [&](const std::vector<P>& path, float start_fraction, CarriedProp prop, int index,
+                    float speed) {
     WalkingParams w;
     w.waypoints = path;
     w.speed = speed * d.uniform(0.9f, 1.1f);
@@ -105,8 +113,9 @@ SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex
       const auto seats = RoomLayout::seat_poses();
       for (std::size_t i = 0; i < seats.size(); ++i) {
         const int idx = static_cast<int>(i);
-        script.actors.push_back(std::make_unique<SeatedActor>(seats[i], random_look(tex, d, idx), d.uniform(0.0f, 6.283f),
-                                                              d.uniform(0.7f, 1.0f), "person " + std::to_string(idx + 1)));
+        script.actors.push_back(std::make_unique<SeatedActor>(seats[i], random_look(tex, d, idx),
+                                                              d.uniform(0.0f, 6.283f), d.uniform(0.7f, 1.0f),
+                                                              "person " + std::to_string(idx + 1)));
       }
       break;
     }

@@ -31,7 +31,7 @@ struct SceneScript {
   std::vector<std::unique_ptr<Actor>> actors;
 };
 
-[[nodiscard]] SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex, std::uint64_t seed,
-                                             double fps);
+[[nodiscard]] SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex,
+                                             std::uint64_t seed, double fps);
 
 }  // namespace lrd::synth

@@ -5,7 +5,9 @@
 namespace lrd::synth::procedural {
 namespace {
 
-cv::RNG make_rng(std::uint64_t seed) { return cv::RNG(seed ^ 0x9E3779B97F4A7C15ull); }
+cv::RNG make_rng(std::uint64_t seed) {
+  return cv::RNG(seed ^ 0x9E3779B97F4A7C15ull);
+}
 
 // Multi-octave tileable noise in [0,1].
 cv::Mat fractal(int size, std::uint64_t seed) {

@@ -27,7 +27,8 @@ void Rasterizer::finish(RenderBuffers& buf) {
   buf.depth.setTo(0.0f, buf.depth == std::numeric_limits<float>::infinity());
 }
 
-void Rasterizer::draw(const std::vector<Triangle>& tris, const Eigen::Isometry3f& T_wc, RenderBuffers& buf) const {
+void Rasterizer::draw(const std::vector<Triangle>& tris, const Eigen::Isometry3f& T_wc,
+                      RenderBuffers& buf) const {
   const Eigen::Isometry3f T_cw = T_wc.inverse();
   const Eigen::Matrix3f R_cw = T_cw.linear();
   const Eigen::Vector3f cam_center = T_wc.translation();
@@ -47,7 +48,8 @@ void Rasterizer::draw(const std::vector<Triangle>& tris, const Eigen::Isometry3f
     const Eigen::Vector3f to_light = lighting_.light_position - centroid;
     const float dist = to_light.norm();
     const float lambert = std::max(0.0f, tri.normal.dot(to_light) / dist);
-    const float atten = 1.0f / (1.0f + (dist / lighting_.falloff_distance) * (dist / lighting_.falloff_distance));
+    const float atten =
+        1.0f / (1.0f + (dist / lighting_.falloff_distance) * (dist / lighting_.falloff_distance));
     const float shade = tri.albedo * (lighting_.ambient + lighting_.diffuse * lambert * (0.5f + atten));
     const Eigen::Vector3f n_c = R_cw * tri.normal;
     if (n_front == 3) {
@@ -74,8 +76,8 @@ void Rasterizer::draw(const std::vector<Triangle>& tris, const Eigen::Isometry3f
   }
 }
 
-void Rasterizer::draw_triangle(const ClipVertex* v, const Triangle& tri, float shade, const Eigen::Vector3f& n_c,
-                               RenderBuffers& buf) const {
+void Rasterizer::draw_triangle(const ClipVertex* v, const Triangle& tri, float shade,
+                               const Eigen::Vector3f& n_c, RenderBuffers& buf) const {
   const float fx = static_cast<float>(cam_.fx), fy = static_cast<float>(cam_.fy);
   const float cx = static_cast<float>(cam_.cx), cy = static_cast<float>(cam_.cy);
   float sx[3], sy[3], iz[3], uz[3], vz[3];
@@ -100,8 +102,8 @@ void Rasterizer::draw_triangle(const ClipVertex* v, const Triangle& tri, float s
   const float du2 = v[2].uv.x() - v[0].uv.x(), dv2 = v[2].uv.y() - v[0].uv.y();
   const float texel_area = std::abs(du1 * dv2 - du2 * dv1) * static_cast<float>(tex.width() * tex.height());
   const float ratio = texel_area / std::abs(area);
-  const int level = std::clamp(static_cast<int>(std::floor(0.5f * std::log2(std::max(ratio, 1.0f)) + 0.3f)), 0,
-                               tex.levels() - 1);
+  const int level = std::clamp(static_cast<int>(std::floor(0.5f * std::log2(std::max(ratio, 1.0f)) + 0.3f)),
+                               0, tex.levels() - 1);
 
   // Edge functions w_i(x, y) = A_i x + B_i y + C_i, oriented so that inside is >= 0.
   const float sign = area > 0 ? 1.0f : -1.0f;

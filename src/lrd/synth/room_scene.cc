@@ -16,8 +16,8 @@ SurfaceStyle wall_style(const TextureLibrary& tex, const char* name, float m, fl
 }
 
 // A poster hung 1 cm in front of a wall: `origin` lower-left corner, `right` and `up` its edges.
-void add_poster(TriangleSoup& soup, const TextureLibrary& tex, const char* name, const Eigen::Vector3f& origin,
-                const Eigen::Vector3f& right, const Eigen::Vector3f& up) {
+void add_poster(TriangleSoup& soup, const TextureLibrary& tex, const char* name,
+                const Eigen::Vector3f& origin, const Eigen::Vector3f& right, const Eigen::Vector3f& up) {
   soup.add_plane(origin, right, up, wall_style(tex, name, 1.0f), 0.5f, true);
 }
 
@@ -45,10 +45,13 @@ TriangleSoup build_room(const TextureLibrary& tex) {
   soup.add_plane(V(2.6f, 1.2f, 0.004f), V(1.6f, 0, 0), V(0, 2.4f, 0), wall_style(tex, "carpet", 0.8f), 0.4f);
   soup.add_plane(V(0, W, H), V(L, 0, 0), V(0, -W, 0), wall_style(tex, "ceiling", 0.6f), 0.6f);
   // Walls, normals pointing into the room.
-  soup.add_plane(V(L, W, 0), V(0, -W, 0), V(0, 0, H), wall_style(tex, "plaster_warm", 1.2f), 0.5f);  // front, x = L
-  soup.add_plane(V(0, 0, 0), V(0, W, 0), V(0, 0, H), wall_style(tex, "mural_garden", 1.1f), 0.5f);   // back, x = 0
-  soup.add_plane(V(L, 0, 0), V(-L, 0, 0), V(0, 0, H), wall_style(tex, "plaster_cool", 1.2f), 0.5f);  // right, y = 0
-  soup.add_plane(V(0, W, 0), V(L, 0, 0), V(0, 0, H), wall_style(tex, "brick", 1.0f), 0.5f);          // left, y = W
+  soup.add_plane(V(L, W, 0), V(0, -W, 0), V(0, 0, H), wall_style(tex, "plaster_warm", 1.2f),
+                 0.5f);  // front, x = L
+  soup.add_plane(V(0, 0, 0), V(0, W, 0), V(0, 0, H), wall_style(tex, "mural_garden", 1.1f),
+                 0.5f);  // back, x = 0
+  soup.add_plane(V(L, 0, 0), V(-L, 0, 0), V(0, 0, H), wall_style(tex, "plaster_cool", 1.2f),
+                 0.5f);                                                                      // right, y = 0
+  soup.add_plane(V(0, W, 0), V(L, 0, 0), V(0, 0, H), wall_style(tex, "brick", 1.0f), 0.5f);  // left, y = W
 
   // Posters: front wall (seen by the walking/sitting presets), then the others (seen by the loops).
   const float e = 0.01f;
@@ -68,7 +71,8 @@ TriangleSoup build_room(const TextureLibrary& tex) {
 
   const float pi = static_cast<float>(M_PI);
   const Eigen::Vector3f d = RoomLayout::desk_center();
-  furniture::add_desk(soup, tex, floor_pose(d.x(), d.y(), 0), RoomLayout::kDeskLength, RoomLayout::kDeskDepth);
+  furniture::add_desk(soup, tex, floor_pose(d.x(), d.y(), 0), RoomLayout::kDeskLength,
+                      RoomLayout::kDeskDepth);
   // Monitors at the desk's ends, so the people seated between them stay in view.
   furniture::add_monitor(soup, tex, floor_pose(d.x() + 0.1f, d.y() - 0.72f, pi + 0.25f, 0.76f));
   furniture::add_monitor(soup, tex, floor_pose(d.x() + 0.1f, d.y() + 0.72f, pi - 0.3f, 0.76f));
@@ -79,7 +83,8 @@ TriangleSoup build_room(const TextureLibrary& tex) {
   furniture::add_plant(soup, tex, floor_pose(5.55f, 0.45f, 0.0f));
   furniture::add_plant(soup, tex, floor_pose(0.45f, 4.55f, 0.7f));
   furniture::add_chair(soup, tex, floor_pose(1.3f, 0.6f, 0.5f * pi));
-  furniture::add_carton(soup, tex, floor_pose(5.6f, 4.55f, 0.2f, 0.2f), {0.5f, 0.4f, 0.4f}, MaskLabel::kStatic);
+  furniture::add_carton(soup, tex, floor_pose(5.6f, 4.55f, 0.2f, 0.2f), {0.5f, 0.4f, 0.4f},
+                        MaskLabel::kStatic);
   return soup;
 }
 

@@ -28,7 +28,9 @@ dense::PointCloud sample_surfaces(const TriangleSoup& soup, const TextureLibrary
       const Eigen::Vector2f uv = t.uv[0] + a * (t.uv[1] - t.uv[0]) + b * (t.uv[2] - t.uv[0]);
       float bgr[3];
       tex.sample(std::min(2, tex.levels() - 1), uv.x(), uv.y(), bgr);
-      const auto c = [&](float v) { return static_cast<unsigned char>(std::clamp(v * t.albedo, 0.0f, 255.0f)); };
+      const auto c = [&](float v) {
+        return static_cast<unsigned char>(std::clamp(v * t.albedo, 0.0f, 255.0f));
+      };
       out.colours.emplace_back(c(bgr[0]), c(bgr[1]), c(bgr[2]));
     }
   }

@@ -13,7 +13,8 @@ void SeatedActor::add_geometry(double t, TriangleSoup& soup) const {
   BodyPose pose;
   pose.root = seat_;
   // Shifting on the seat (a few cm) and leaning.
-  pose.root.translate(Eigen::Vector3f(0.03f * std::sin(0.21f * tf + ph) * L, 0.04f * std::sin(0.13f * tf + 2 * ph) * L, 0));
+  pose.root.translate(
+      Eigen::Vector3f(0.03f * std::sin(0.21f * tf + ph) * L, 0.04f * std::sin(0.13f * tf + 2 * ph) * L, 0));
   pose.pelvis_height = 0.55f;
   pose.torso_pitch = 0.08f + 0.12f * std::sin(0.31f * tf + ph) * L;
   pose.torso_roll = 0.07f * std::sin(0.17f * tf + 3 * ph) * L;
@@ -34,6 +35,8 @@ void SeatedActor::add_geometry(double t, TriangleSoup& soup) const {
   add_humanoid(soup, pose, look_);
 }
 
-std::string SeatedActor::describe() const { return name_ + ": seated, shifting, turning and gesturing"; }
+std::string SeatedActor::describe() const {
+  return name_ + ": seated, shifting, turning and gesturing";
+}
 
 }  // namespace lrd::synth

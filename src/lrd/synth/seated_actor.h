@@ -10,7 +10,8 @@ namespace lrd::synth {
 class SeatedActor : public Actor {
  public:
   // `seat`: chair pose (origin on the floor, +x the way the person faces); `phase` varies the motion.
-  SeatedActor(const Eigen::Isometry3f& seat, Appearance look, float phase, float liveliness, std::string name);
+  SeatedActor(const Eigen::Isometry3f& seat, Appearance look, float phase, float liveliness,
+              std::string name);
   void add_geometry(double t, TriangleSoup& soup) const override;
   [[nodiscard]] std::string describe() const override;
 

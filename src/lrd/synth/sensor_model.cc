@@ -24,7 +24,9 @@ struct FrameNoise {
   const std::vector<float>& table;
   std::size_t offset;
   FrameNoise(const std::vector<float>& t, std::uint64_t seed, int frame, std::uint64_t stream)
-      : table(t), offset(splitmix(seed ^ splitmix(static_cast<std::uint64_t>(frame) * 0x100000001B3ull + stream)) & kTableMask) {}
+      : table(t),
+        offset(splitmix(seed ^ splitmix(static_cast<std::uint64_t>(frame) * 0x100000001B3ull + stream)) &
+               kTableMask) {}
   [[nodiscard]] float operator()(std::size_t i) const { return table[(offset + i) & kTableMask]; }
 };
 
@@ -38,7 +40,8 @@ SensorModel::SensorModel(const camera::PinholeCamera& camera, SensorParams param
   uniform_.resize(kTableMask + 1);
   for (std::size_t i = 0; i <= kTableMask; i += 2) {
     const std::uint64_t h = splitmix(seed ^ (i * 0xD6E8FEB86659FD93ull));
-    const double u1 = (static_cast<double>(h >> 40) + 1.0) * 0x1.0p-24, u2 = static_cast<double>(h & 0xFFFFFF) * 0x1.0p-24;
+    const double u1 = (static_cast<double>(h >> 40) + 1.0) * 0x1.0p-24,
+                 u2 = static_cast<double>(h & 0xFFFFFF) * 0x1.0p-24;
     const double r = std::sqrt(-2.0 * std::log(u1));
     gaussian_[i] = static_cast<float>(r * std::cos(2.0 * M_PI * u2));
     gaussian_[i + 1] = static_cast<float>(r * std::sin(2.0 * M_PI * u2));
@@ -70,16 +73,19 @@ cv::Mat SensorModel::depth_image(const RenderBuffers& ideal, int frame) const {
       const bool shadowed = px < max_projector_x - 0.5;
       max_projector_x = std::max(max_projector_x, px);
       if (shadowed || zi < params_.min_depth || zi > params_.max_depth) continue;
-      const auto idx = static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x);
+      const auto idx =
+          static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x);
       // Grazing incidence: the speckle pattern smears and the sensor reports nothing.
       const double c = inc[x];
       if (c < params_.grazing_cos_invalid) continue;
       if (c < params_.grazing_cos_random &&
-          drop(idx) < (params_.grazing_cos_random - c) / (params_.grazing_cos_random - params_.grazing_cos_invalid))
+          drop(idx) <
+              (params_.grazing_cos_random - c) / (params_.grazing_cos_random - params_.grazing_cos_invalid))
         continue;
       // Depth edges: pixels next to a jump of more than ~5 % drop out at random (flying pixels).
       const double zl = z[std::max(0, x - 1)], zr = z[std::min(W - 1, x + 1)];
-      const double jump = std::max({std::abs(zl - zi), std::abs(zr - zi), std::abs(z_up[x] - zi), std::abs(z_dn[x] - zi)});
+      const double jump =
+          std::max({std::abs(zl - zi), std::abs(zr - zi), std::abs(z_up[x] - zi), std::abs(z_dn[x] - zi)});
       if (jump > 0.05 * zi && drop(idx + 7919) < params_.edge_dropout) continue;
       double dn = d + params_.disparity_sigma * noise(idx);
       dn = std::round(dn / params_.disparity_step) * params_.disparity_step;
@@ -102,7 +108,8 @@ cv::Mat SensorModel::rgb_image(const cv::Mat& ideal_bgr, int frame) const {
   for (int y = 0; y < blurred.rows; ++y) {
     auto* p = blurred.ptr<std::uint8_t>(y);
     for (int i = 0; i < 3 * W; ++i) {
-      const auto idx = static_cast<std::size_t>(y) * 3u * static_cast<std::size_t>(W) + static_cast<std::size_t>(i);
+      const auto idx =
+          static_cast<std::size_t>(y) * 3u * static_cast<std::size_t>(W) + static_cast<std::size_t>(i);
       p[i] = cv::saturate_cast<std::uint8_t>(static_cast<float>(p[i]) + sigma * noise(idx));
     }
   }

@@ -16,11 +16,11 @@
 namespace lrd::synth {
 
 struct SensorParams {
-  double baseline = 0.075;          // m, IR projector to IR camera
-  double disparity_sigma = 0.07;    // px
-  double disparity_step = 0.125;    // px (1/8 sub-pixel)
-  double min_depth = 0.45;          // m
-  double max_depth = 4.5;           // m
+  double baseline = 0.075;           // m, IR projector to IR camera
+  double disparity_sigma = 0.07;     // px
+  double disparity_step = 0.125;     // px (1/8 sub-pixel)
+  double min_depth = 0.45;           // m
+  double max_depth = 4.5;            // m
   double grazing_cos_invalid = 0.1;  // |cos| below: always a hole
   double grazing_cos_random = 0.25;  // below: a hole with growing probability
   double edge_dropout = 0.5;         // probability of a hole next to a depth edge

@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <chrono>
 #include <mutex>
-#include <optional>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 
 #include "lrd/dense/ply_io.h"
 #include "lrd/io/trajectory.h"
@@ -21,7 +21,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string stamp_name(double t) { return fmt::format("{:.6f}.png", t); }
+std::string stamp_name(double t) {
+  return fmt::format("{:.6f}.png", t);
+}
 
 void write_png(const fs::path& path, const cv::Mat& img) {
   // OpenCV's default PNG settings (SUB filter, fastest zlib level, RLE) encode 2-4x faster than
@@ -40,13 +42,16 @@ void write_list(const fs::path& file, const std::string& title, const std::strin
 
 void write_orbslam_settings(const fs::path& file, const camera::PinholeCamera& c) {
   auto out = fmt::output_file(file.string());
-  out.print("%YAML:1.0\n\n# Written by lrdslam synth (ORB-SLAM2 settings format).\nCamera.fx: {}\nCamera.fy: {}\n"
-            "Camera.cx: {}\nCamera.cy: {}\n\nCamera.k1: {}\nCamera.k2: {}\nCamera.p1: {}\nCamera.p2: {}\nCamera.k3: {}\n\n"
-            "Camera.width: {}\nCamera.height: {}\n\nCamera.fps: {:.1f}\nCamera.bf: {:.1f}\nCamera.RGB: {}\n\n"
-            "ThDepth: {:.1f}\nDepthMapFactor: {:.1f}\n\nORBextractor.nFeatures: 1000\nORBextractor.scaleFactor: 1.2\n"
-            "ORBextractor.nLevels: 8\nORBextractor.iniThFAST: 20\nORBextractor.minThFAST: 7\n",
-            c.fx, c.fy, c.cx, c.cy, c.distortion.k1, c.distortion.k2, c.distortion.p1, c.distortion.p2,
-            c.distortion.k3, c.width, c.height, c.fps, c.bf, c.rgb_order ? 1 : 0, c.th_depth, c.depth_map_factor);
+  out.print(
+      "%YAML:1.0\n\n# Written by lrdslam synth (ORB-SLAM2 settings format).\nCamera.fx: {}\nCamera.fy: {}\n"
+      "Camera.cx: {}\nCamera.cy: {}\n\nCamera.k1: {}\nCamera.k2: {}\nCamera.p1: {}\nCamera.p2: "
+      "{}\nCamera.k3: {}\n\n"
+      "Camera.width: {}\nCamera.height: {}\n\nCamera.fps: {:.1f}\nCamera.bf: {:.1f}\nCamera.RGB: {}\n\n"
+      "ThDepth: {:.1f}\nDepthMapFactor: {:.1f}\n\nORBextractor.nFeatures: 1000\nORBextractor.scaleFactor: "
+      "1.2\n"
+      "ORBextractor.nLevels: 8\nORBextractor.iniThFAST: 20\nORBextractor.minThFAST: 7\n",
+      c.fx, c.fy, c.cx, c.cy, c.distortion.k1, c.distortion.k2, c.distortion.p1, c.distortion.p2,
+      c.distortion.k3, c.width, c.height, c.fps, c.bf, c.rgb_order ? 1 : 0, c.th_depth, c.depth_map_factor);
 }
 
 SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
@@ -98,7 +103,8 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
   {
     auto assoc = fmt::output_file((out / "associations.txt").string());
     for (int i = 0; i < n; ++i) {
-      const double tr = rgb_stamps[static_cast<std::size_t>(i)], td = depth_stamps[static_cast<std::size_t>(i)];
+      const double tr = rgb_stamps[static_cast<std::size_t>(i)],
+                   td = depth_stamps[static_cast<std::size_t>(i)];
       assoc.print("{:.6f} rgb/{} {:.6f} depth/{}\n", tr, stamp_name(tr), td, stamp_name(td));
     }
   }
@@ -127,15 +133,21 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
   meta["motion_blur"] = seq.options().motion_blur;
   if (seq.options().blank_from >= 0)
     meta["blank"] = {{"from", seq.options().blank_from}, {"count", seq.options().blank_count}};
-  meta["camera"] = {{"fx", seq.camera().fx}, {"fy", seq.camera().fy}, {"cx", seq.camera().cx}, {"cy", seq.camera().cy},
-                    {"width", seq.camera().width}, {"height", seq.camera().height},
+  meta["camera"] = {{"fx", seq.camera().fx},
+                    {"fy", seq.camera().fy},
+                    {"cx", seq.camera().cx},
+                    {"cy", seq.camera().cy},
+                    {"width", seq.camera().width},
+                    {"height", seq.camera().height},
                     {"depth_map_factor", seq.camera().depth_map_factor}};
   meta["mask_values"] = {{"static", 0}, {"person", 1}, {"moved_object", 2}};
   meta["actors"] = seq.actor_descriptions();
   meta["texture_photos"] = seq.textures().photo_sources();
   meta["missing_texture_photos"] = seq.textures().missing_photos();
-  meta["dynamic_fraction"] = {{"mean", s.mean_dynamic_fraction}, {"median", s.median_dynamic_fraction},
-                              {"max", s.max_dynamic_fraction}, {"frames_20_to_50_percent", s.frames_with_20_to_50_percent}};
+  meta["dynamic_fraction"] = {{"mean", s.mean_dynamic_fraction},
+                              {"median", s.median_dynamic_fraction},
+                              {"max", s.max_dynamic_fraction},
+                              {"frames_20_to_50_percent", s.frames_with_20_to_50_percent}};
   {
     auto js = fmt::output_file((out / "sequence.json").string());
     js.print("{}\n", meta.dump(2));

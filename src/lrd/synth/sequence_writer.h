@@ -13,7 +13,7 @@ namespace lrd::synth {
 struct SynthSummary {
   int frames = 0;
   double seconds = 0.0;
-  double mean_dynamic_fraction = 0.0;    // of the image covered by actors
+  double mean_dynamic_fraction = 0.0;  // of the image covered by actors
   double median_dynamic_fraction = 0.0;
   double max_dynamic_fraction = 0.0;
   double frames_with_20_to_50_percent = 0.0;  // fraction of frames

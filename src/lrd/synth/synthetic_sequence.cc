@@ -11,7 +11,8 @@ namespace {
 
 // Deterministic per-frame offsets in [-1, 1].
 double frame_hash(std::uint64_t seed, int i, std::uint64_t stream) {
-  std::uint64_t x = seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(i) * 0xBF58476D1CE4E5B9ull + stream;
+  std::uint64_t x =
+      seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(i) * 0xBF58476D1CE4E5B9ull + stream;
   x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
   x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
   x ^= x >> 31;
@@ -29,7 +30,8 @@ std::shared_ptr<const TextureLibrary> SyntheticSequence::load_textures() {
 SyntheticSequence::SyntheticSequence(const SynthOptions& options)
     : SyntheticSequence(options, load_textures()) {}
 
-SyntheticSequence::SyntheticSequence(const SynthOptions& options, std::shared_ptr<const TextureLibrary> textures)
+SyntheticSequence::SyntheticSequence(const SynthOptions& options,
+                                     std::shared_ptr<const TextureLibrary> textures)
     : options_(options),
       spec_(find_preset(options.preset)),
       camera_(camera::camera_preset("tum3")),
@@ -60,7 +62,9 @@ double SyntheticSequence::depth_timestamp(int i) const {
   return timestamp(i) + 0.008 * frame_hash(options_.seed, i, 12);
 }
 
-Eigen::Isometry3d SyntheticSequence::pose(int i) const { return script_.camera->pose_at(timestamp(i) - kFirstTimestamp); }
+Eigen::Isometry3d SyntheticSequence::pose(int i) const {
+  return script_.camera->pose_at(timestamp(i) - kFirstTimestamp);
+}
 
 SynthFrame SyntheticSequence::render(int i) const {
   if (i < 0 || i >= frames_) throw Error("synth: frame index out of range");
@@ -90,7 +94,8 @@ SynthFrame SyntheticSequence::render(int i) const {
     // Average colour over the exposure; depth and masks stay those of the frame's instant.
     cv::Mat acc(color.size(), CV_32FC3, cv::Scalar::all(0)), acc_static = acc.clone();
     for (int k = 0; k < options_.blur_subframes; ++k) {
-      const double tk = t + options_.exposure * (static_cast<double>(k) / (options_.blur_subframes - 1) - 0.5);
+      const double tk =
+          t + options_.exposure * (static_cast<double>(k) / (options_.blur_subframes - 1) - 0.5);
       RenderBuffers s, d;
       render_at(tk, s, d);
       cv::Mat tmp;
@@ -115,6 +120,8 @@ SynthFrame SyntheticSequence::render(int i) const {
   return f;
 }
 
-dense::PointCloud SyntheticSequence::scene_samples() const { return sample_surfaces(room_, *textures_); }
+dense::PointCloud SyntheticSequence::scene_samples() const {
+  return sample_surfaces(room_, *textures_);
+}
 
 }  // namespace lrd::synth

@@ -19,15 +19,17 @@ namespace lrd::synth {
 struct SynthOptions {
   std::string preset = "walking_xyz";
   std::uint64_t seed = 1;
-  int frames = -1;            // < 0: the preset's default length
-  bool motion_blur = false;   // average sub-frames over the exposure
+  int frames = -1;           // < 0: the preset's default length
+  bool motion_blur = false;  // average sub-frames over the exposure
   int blur_subframes = 5;
   double exposure = 1.0 / 60.0;  // s
   // Frames [blank_from, blank_from + blank_count) are black with no depth (a covered lens): the
   // camera keeps moving meanwhile, so tracking is lost and must relocalize when the view returns.
   int blank_from = -1;
   int blank_count = 0;
-  [[nodiscard]] bool blanked(int i) const { return blank_from >= 0 && i >= blank_from && i < blank_from + blank_count; }
+  [[nodiscard]] bool blanked(int i) const {
+    return blank_from >= 0 && i >= blank_from && i < blank_from + blank_count;
+  }
 };
 
 struct SynthFrame {

@@ -1,7 +1,7 @@
 #pragma once
 // A mip-mapped RGB texture with wrap-around bilinear sampling, for the synthetic renderer.
-#include <opencv2/core.hpp>
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <vector>
 
 namespace lrd::synth {

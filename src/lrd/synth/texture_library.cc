@@ -89,8 +89,9 @@ void TextureLibrary::add_photo(const std::string& name, const std::string& relat
   }
   // Without the photo the room still renders (with a procedural stand-in), but the sequence is
   // then not the benchmark's: scripts/install-deps.sh installs the packages that provide them.
-  spdlog::warn("synth: photo texture '{}' not found (install opencv-doc, mate-backgrounds, gnome-backgrounds)",
-               relative_path);
+  spdlog::warn(
+      "synth: photo texture '{}' not found (install opencv-doc, mate-backgrounds, gnome-backgrounds)",
+      relative_path);
   missing_photos_.push_back(relative_path);
   add(name, procedural::carpet(std::min(max_side, 256), cv::Scalar(128, 128, 128), seed + textures_.size()));
 }

@@ -28,8 +28,8 @@ struct SurfaceStyle {
 };
 
 struct Triangle {
-  Eigen::Vector3f p[3];   // world coordinates, counter-clockwise seen from the front
-  Eigen::Vector2f uv[3];  // texture coordinates in repeats
+  Eigen::Vector3f p[3];    // world coordinates, counter-clockwise seen from the front
+  Eigen::Vector2f uv[3];   // texture coordinates in repeats
   Eigen::Vector3f normal;  // unit, pointing to the front
   TextureId texture = 0;
   float albedo = 1.0f;
@@ -42,7 +42,9 @@ class TriangleSoup {
   [[nodiscard]] const std::vector<Triangle>& triangles() const { return tris_; }
   [[nodiscard]] std::size_t size() const { return tris_.size(); }
   void clear() { tris_.clear(); }
-  void append(const TriangleSoup& other) { tris_.insert(tris_.end(), other.tris_.begin(), other.tris_.end()); }
+  void append(const TriangleSoup& other) {
+    tris_.insert(tris_.end(), other.tris_.begin(), other.tris_.end());
+  }
 
   // Quad a-b-c-d (counter-clockwise seen from the front) with explicit texture coordinates.
   void add_quad(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,

@@ -20,7 +20,8 @@ VocExportSummary export_voc(const fs::path& dir, const VocExportOptions& options
                             const std::function<void(int, int)>& progress) {
   if (options.images <= 0) throw Error("synth --export-voc: the number of images must be positive");
   if (options.first_seed < kFirstTrainingSeed)
-    throw Error(fmt::format("synth --export-voc: seeds below {} are reserved for evaluation", kFirstTrainingSeed));
+    throw Error(
+        fmt::format("synth --export-voc: seeds below {} are reserved for evaluation", kFirstTrainingSeed));
   const auto start = std::chrono::steady_clock::now();
   for (const char* sub : {"JPEGImages", "SegmentationClassAug", "ImageSets/Segmentation"}) {
     std::error_code ec;
@@ -49,7 +50,8 @@ VocExportSummary export_voc(const fs::path& dir, const VocExportOptions& options
       const int frame = static_cast<int>(rng.pick(static_cast<std::size_t>(seq.size())));
       const SynthFrame f = seq.render(frame);
       const std::string name = fmt::format("synth_{}_{}_{:04d}", o.preset, o.seed, frame);
-      if (!cv::imwrite((dir / "JPEGImages" / (name + ".jpg")).string(), f.rgb, {cv::IMWRITE_JPEG_QUALITY, 95}))
+      if (!cv::imwrite((dir / "JPEGImages" / (name + ".jpg")).string(), f.rgb,
+                       {cv::IMWRITE_JPEG_QUALITY, 95}))
         throw file_error(dir / "JPEGImages" / (name + ".jpg"), "cannot write image");
       if (!cv::imwrite((dir / "SegmentationClassAug" / (name + ".png")).string(), f.voc_class))
         throw file_error(dir / "SegmentationClassAug" / (name + ".png"), "cannot write label image");
@@ -66,7 +68,8 @@ VocExportSummary export_voc(const fs::path& dir, const VocExportOptions& options
   VocExportSummary summary;
   auto train = fmt::output_file((dir / "ImageSets/Segmentation/train.txt").string());
   auto val = fmt::output_file((dir / "ImageSets/Segmentation/val.txt").string());
-  const int val_every = options.val_fraction > 0 ? std::max(2, static_cast<int>(1.0 / options.val_fraction)) : 0;
+  const int val_every =
+      options.val_fraction > 0 ? std::max(2, static_cast<int>(1.0 / options.val_fraction)) : 0;
   for (int i = 0; i < options.images; ++i) {
     const int seq = i / per_seq;
     // Every val_every-th sequence; with fewer sequences than that, the last one (if not the only).

@@ -15,7 +15,8 @@ void WalkingActor::add_geometry(double t, TriangleSoup& soup) const {
   const float w = 2.0f * static_cast<float>(M_PI) / 9.0f;  // speed oscillation, 9 s period
   const float a = params_.speed_variation;
   // Arc length: integral of v (1 + a cos(w t + phase)) keeps the speed positive for a < 1.
-  const float s = params_.start + params_.speed * (tf + a * (std::sin(w * tf + params_.phase) - std::sin(params_.phase)) / w);
+  const float s = params_.start +
+                  params_.speed * (tf + a * (std::sin(w * tf + params_.phase) - std::sin(params_.phase)) / w);
   Eigen::Vector2f p, h;
   path_.at(s, p, h);
   const float yaw = std::atan2(h.y(), h.x());
@@ -65,9 +66,9 @@ void WalkingActor::add_geometry(double t, TriangleSoup& soup) const {
 }
 
 std::string WalkingActor::describe() const {
-  const char* prop = params_.prop == CarriedProp::kPushedChair ? " pushing a chair"
+  const char* prop = params_.prop == CarriedProp::kPushedChair  ? " pushing a chair"
                      : params_.prop == CarriedProp::kCarriedBox ? " carrying a box"
-                                                                 : "";
+                                                                : "";
   return name_ + ": walking a " + std::to_string(path_.length()).substr(0, 4) + " m loop at " +
          std::to_string(params_.speed).substr(0, 4) + " m/s" + prop;
 }

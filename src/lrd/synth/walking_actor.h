@@ -14,10 +14,10 @@ enum class CarriedProp { kNone, kPushedChair, kCarriedBox };
 
 struct WalkingParams {
   std::vector<Eigen::Vector2f> waypoints;
-  float speed = 1.0f;          // mean m/s
+  float speed = 1.0f;            // mean m/s
   float speed_variation = 0.5f;  // 0..0.9: relative amplitude of the speed's slow oscillation
-  float start = 0.0f;          // arc length at t = 0
-  float phase = 0.0f;          // of head and speed oscillations
+  float start = 0.0f;            // arc length at t = 0
+  float phase = 0.0f;            // of head and speed oscillations
   CarriedProp prop = CarriedProp::kNone;
 };
 

@@ -1,8 +1,9 @@
 #include "lrd/tracking/keyframe_inserter.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
-#include <spdlog/spdlog.h>
 #include <utility>
 #include <vector>
 
@@ -17,10 +18,11 @@ namespace lrd::tracking {
 
 bool KeyFrameInserter::needed(const data::Frame& frame, const KeyFrameContext& context) const {
   const std::size_t n_kfs = map_.keyframe_count();
-  const auto max_frames = static_cast<std::uint64_t>(
-      params_.max_frames_between_keyframes > 0 ? params_.max_frames_between_keyframes
-                                               : static_cast<int>(std::lround(frame.camera().fps)));
-  if (context.recovered_at && frame.id() < *context.recovered_at + max_frames && n_kfs > max_frames) return false;
+  const auto max_frames = static_cast<std::uint64_t>(params_.max_frames_between_keyframes > 0
+                                                         ? params_.max_frames_between_keyframes
+                                                         : static_cast<int>(std::lround(frame.camera().fps)));
+  if (context.recovered_at && frame.id() < *context.recovered_at + max_frames && n_kfs > max_frames)
+    return false;
   const int min_obs = n_kfs <= 2 ? 2 : 3;
   const int ref_matches = context.reference->tracked_map_points(min_obs);
   const bool idle = mapper_.accepts_keyframes();
@@ -31,8 +33,10 @@ bool KeyFrameInserter::needed(const data::Frame& frame, const KeyFrameContext& c
   int tracked_close = 0, untracked_close = 0;
   for (std::size_t i = 0; i < frame.size(); ++i) {
     if (!frame.is_close(i)) continue;
-    if (frame.map_points[i] != nullptr && !frame.outliers[i]) ++tracked_close;
-    else ++untracked_close;
+    if (frame.map_points[i] != nullptr && !frame.outliers[i])
+      ++tracked_close;
+    else
+      ++untracked_close;
   }
   const bool need_close = tracked_close < 100 && untracked_close > 70;
   // The tracked points span too little of the view (docs/slam-core.md, "Keyframe coverage").
@@ -40,15 +44,17 @@ bool KeyFrameInserter::needed(const data::Frame& frame, const KeyFrameContext& c
   const bool need_coverage = coverage < params_.keyframe_coverage;
   const double ratio = n_kfs < 2 ? 0.4 : params_.reference_ratio;
   const bool c1a = frame.id() >= last_keyframe_frame_id_ + max_frames;
-  const bool c1b =
-      frame.id() >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(params_.min_frames_between_keyframes) && idle;
+  const bool c1b = frame.id() >= last_keyframe_frame_id_ +
+                                     static_cast<std::uint64_t>(params_.min_frames_between_keyframes) &&
+                   idle;
   const bool c1c = inliers < ref_matches * 0.25 || need_close;
   // Coverage joins c2 only: its keyframes wait until local mapping is idle (c1b) instead of
   // interrupting it, so the rule adds no mapping load to a busy thread.
   const bool c2 = (inliers < ref_matches * ratio || need_close || need_coverage) && inliers > 15;
-  spdlog::debug("frame {}: keyframe? inliers {} ref {} (kf {}) close {}/{} coverage {:.2f} idle {} c1 {}{}{} c2 {}",
-                frame.id(), inliers, ref_matches, context.reference->id(), tracked_close, untracked_close, coverage,
-                idle, c1a, c1b, c1c, c2);
+  spdlog::debug(
+      "frame {}: keyframe? inliers {} ref {} (kf {}) close {}/{} coverage {:.2f} idle {} c1 {}{}{} c2 {}",
+      frame.id(), inliers, ref_matches, context.reference->id(), tracked_close, untracked_close, coverage,
+      idle, c1a, c1b, c1c, c2);
   if (!((c1a || c1b || c1c) && c2)) return false;
   if (idle) return true;
   mapper_.interrupt_ba();
@@ -85,6 +91,8 @@ map::KeyFrame* KeyFrameInserter::insert(data::Frame& frame) {
   return kf;
 }
 
-void KeyFrameInserter::inserted_first(const data::Frame& frame) { last_keyframe_frame_id_ = frame.id(); }
+void KeyFrameInserter::inserted_first(const data::Frame& frame) {
+  last_keyframe_frame_id_ = frame.id();
+}
 
 }  // namespace lrd::tracking

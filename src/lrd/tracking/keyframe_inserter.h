@@ -22,8 +22,8 @@ namespace lrd::tracking {
 
 // What the decision needs to know about tracking's state.
 struct KeyFrameContext {
-  const map::KeyFrame* reference = nullptr;  // the frame's reference keyframe
-  int inliers = 0;                           // map points tracked in the frame
+  const map::KeyFrame* reference = nullptr;   // the frame's reference keyframe
+  int inliers = 0;                            // map points tracked in the frame
   std::optional<std::uint64_t> recovered_at;  // frame id of the last recovery from loss
 };
 

@@ -7,9 +7,9 @@
 #include <opencv2/calib3d.hpp>
 
 #include "lrd/map/keyframe.h"
+#include "lrd/map/keyframe_database.h"
 #include "lrd/map/map_point.h"
 #include "lrd/match/bow_matcher.h"
-#include "lrd/place/keyframe_database.h"
 #include "lrd/tracking/tracker.h"
 
 namespace lrd::tracking {

@@ -1,12 +1,12 @@
 #include "lrd/tracking/tracker.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
 #include <mutex>
-
-#include <spdlog/spdlog.h>
 
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
@@ -150,8 +150,10 @@ void Tracker::record(const data::Frame& frame) {
     last_T_c_ref_ = rec.T_c_ref;
   }
   records_.push_back(rec);
-  if (state_ == TrackingState::Ok) last_frame_ = frame;
-  else if (last_frame_) last_frame_->map_points.assign(last_frame_->size(), nullptr);
+  if (state_ == TrackingState::Ok)
+    last_frame_ = frame;
+  else if (last_frame_)
+    last_frame_->map_points.assign(last_frame_->size(), nullptr);
 }
 
 std::optional<Eigen::Isometry3d> Tracker::predicted_pose() const {
@@ -258,8 +260,8 @@ bool Tracker::track_local_map(data::Frame& frame) {
     mp->increase_found();
     if (mp->num_observations() > 0) ++inliers_;
   }
-  spdlog::debug("frame {}: local map {} kfs {} points, {} found, {} inliers", frame.id(), local_keyframes_.size(),
-                local_points_.size(), found, inliers_);
+  spdlog::debug("frame {}: local map {} kfs {} points, {} found, {} inliers", frame.id(),
+                local_keyframes_.size(), local_points_.size(), found, inliers_);
   if (recently_recovered(frame) && inliers_ < params_.min_inliers_after_recovery) return false;
   return inliers_ >= params_.min_local_map_inliers;
 }

@@ -19,6 +19,7 @@
 
 namespace lrd::map {
 class KeyFrame;
+class KeyFrameDatabase;
 class Map;
 class MapPoint;
 }  // namespace lrd::map
@@ -26,9 +27,8 @@ namespace lrd::mapping {
 class LocalMapper;
 }
 namespace lrd::place {
-class KeyFrameDatabase;
 class Vocabulary;
-}  // namespace lrd::place
+}
 
 namespace lrd::tracking {
 
@@ -66,7 +66,7 @@ class Tracker {
   // final pose is optimized without them and they never create map points. Null: no check.
   void set_moving_point_check(dynamic::MovingPointCheck* check) { moving_point_check_ = check; }
   // Relocalization when lost (without: only the last reference keyframe is tried again).
-  void set_place_recognition(const place::Vocabulary* vocabulary, place::KeyFrameDatabase* database) {
+  void set_place_recognition(const place::Vocabulary* vocabulary, map::KeyFrameDatabase* database) {
     vocabulary_ = vocabulary;
     database_ = database;
   }
@@ -101,7 +101,7 @@ class Tracker {
   mapping::LocalMapper& mapper_;
   TrackerParams params_;
   KeyFrameInserter keyframes_;
-  match::OrbMatcher motion_matcher_;  // nn 0.9, rotation check
+  match::OrbMatcher motion_matcher_;     // nn 0.9, rotation check
   match::OrbMatcher reference_matcher_;  // nn 0.7, rotation check
   match::OrbMatcher local_matcher_;      // nn 0.8
 
@@ -119,7 +119,7 @@ class Tracker {
   std::vector<FrameRecord> records_;
   dynamic::MovingPointCheck* moving_point_check_ = nullptr;
   const place::Vocabulary* vocabulary_ = nullptr;
-  place::KeyFrameDatabase* database_ = nullptr;
+  map::KeyFrameDatabase* database_ = nullptr;
   int relocalizations_ = 0;
 };
 

@@ -17,8 +17,8 @@ struct TrackerParams {
   float local_map_radius = 1.0f;
   int max_frames_between_keyframes = 0;  // 0: the camera's fps
   int min_frames_between_keyframes = 0;
-  double reference_ratio = 0.75;  // keyframe when tracked points fall below this share of the reference's
-  int keyframe_close_points = 100;      // new keyframes create points from at least this many close depths
+  double reference_ratio = 0.75;    // keyframe when tracked points fall below this share of the reference's
+  int keyframe_close_points = 100;  // new keyframes create points from at least this many close depths
   // Keyframe when the tracked close points span less than this share of the extent of all close
   // keypoints, across or down the image: a map seen in one strip of the view leaves rotation and
   // sideways translation nearly interchangeable (0: off, as ORB-SLAM2; docs/slam-core.md).

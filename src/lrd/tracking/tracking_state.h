@@ -8,9 +8,12 @@ enum class TrackingState { NotInitialized, Ok, Lost };
 
 constexpr std::string_view to_string(TrackingState s) {
   switch (s) {
-    case TrackingState::NotInitialized: return "not-initialized";
-    case TrackingState::Ok: return "ok";
-    case TrackingState::Lost: return "lost";
+    case TrackingState::NotInitialized:
+      return "not-initialized";
+    case TrackingState::Ok:
+      return "ok";
+    case TrackingState::Lost:
+      return "lost";
   }
   return "?";
 }

@@ -18,10 +18,8 @@ namespace lrd::data {
 class Frame;
 }
 namespace lrd::map {
-class KeyFrame;
-}
 
-namespace lrd::place {
+class KeyFrame;
 
 class KeyFrameDatabase {
  public:
@@ -39,7 +37,7 @@ class KeyFrameDatabase {
  private:
   // Keyframes sharing at least 80 % of the best count of shared words, with their scores
   // (`exclude`: skipped; `min_score`: floor).
-  std::vector<map::KeyFrame*> candidates(const BowVector& bow, std::uint64_t query,
+  std::vector<map::KeyFrame*> candidates(const place::BowVector& bow, std::uint64_t query,
                                          const std::vector<map::KeyFrame*>& exclude, double min_score);
 
   std::vector<std::vector<map::KeyFrame*>> inverted_;  // word -> keyframes, in insertion order
@@ -47,4 +45,4 @@ class KeyFrameDatabase {
   std::uint64_t next_query_ = 0;
 };
 
-}  // namespace lrd::place
+}  // namespace lrd::map

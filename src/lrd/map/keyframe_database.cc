@@ -1,4 +1,4 @@
-#include "lrd/place/keyframe_database.h"
+#include "lrd/map/keyframe_database.h"
 
 #include <algorithm>
 #include <limits>
@@ -7,7 +7,7 @@
 #include "lrd/map/keyframe.h"
 #include "lrd/place/vocabulary.h"
 
-namespace lrd::place {
+namespace lrd::map {
 
 namespace {
 constexpr double kSharedWordsRatio = 0.8;  // ORB-SLAM2: candidates share >= 80 % of the best count
@@ -33,7 +33,7 @@ void KeyFrameDatabase::clear() {
   keyframe_count_ = 0;
 }
 
-std::vector<map::KeyFrame*> KeyFrameDatabase::candidates(const BowVector& bow, std::uint64_t query,
+std::vector<map::KeyFrame*> KeyFrameDatabase::candidates(const place::BowVector& bow, std::uint64_t query,
                                                          const std::vector<map::KeyFrame*>& exclude,
                                                          double min_score) {
   // Excluded keyframes are marked as seen with a count that can never qualify.
@@ -64,7 +64,7 @@ std::vector<map::KeyFrame*> KeyFrameDatabase::candidates(const BowVector& bow, s
   std::vector<map::KeyFrame*> scored;
   for (map::KeyFrame* kf : sharing) {
     if (kf->place_shared_words < min_shared) continue;
-    const double s = Vocabulary::score(bow, kf->bow());
+    const double s = place::Vocabulary::score(bow, kf->bow());
     if (s < min_score) continue;
     kf->place_score = s;
     scored.push_back(kf);
@@ -105,8 +105,9 @@ std::vector<map::KeyFrame*> KeyFrameDatabase::loop_candidates(map::KeyFrame* kf,
   exclude.push_back(kf);
   auto out = candidates(kf->bow(), next_query_++, exclude, min_score);
   // Keyframes indexed after it (threaded: local mapping runs ahead of loop closing) neither.
-  out.erase(std::remove_if(out.begin(), out.end(), [&](const map::KeyFrame* c) { return c->id() >= kf->id(); }),
-            out.end());
+  out.erase(
+      std::remove_if(out.begin(), out.end(), [&](const map::KeyFrame* c) { return c->id() >= kf->id(); }),
+      out.end());
   return out;
 }
 
@@ -114,4 +115,4 @@ std::vector<map::KeyFrame*> KeyFrameDatabase::relocalization_candidates(const da
   return candidates(frame.bow, next_query_++, {}, 0.0);
 }
 
-}  // namespace lrd::place
+}  // namespace lrd::map

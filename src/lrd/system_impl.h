@@ -1,0 +1,38 @@
+#pragma once
+// lrd::System's state (internal): the parameters read once, the vocabulary, the publisher and the
+// thread-error sink that outlive reset(), and the Pipeline of the current map.
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "lrd/pipeline.h"
+#include "lrd/system.h"
+
+namespace lrd {
+
+struct System::Impl {
+  Impl(const config::Config& cfg, SystemParams p, SystemOptions opts);
+  void start_pipeline();
+
+  TrackResult track(const cv::Mat& rgb, const cv::Mat& depth, double timestamp, const cv::Mat& mask);
+  void publish_frame(const TrackResult& r, const tracking::TrackOutcome& outcome, const data::Frame& frame,
+                     const cv::Mat& grey, bool grey_shared);
+
+  config::Config config;
+  SystemParams params;
+  SystemOptions options;
+  std::filesystem::path vocabulary_file;
+  std::shared_ptr<const place::Vocabulary> vocabulary;
+  util::ThreadErrors errors;
+  events::EventPublisher publisher;  // before `pipe`: its threads publish until they stop
+  dense::DenseMapper::RepairCallback repair_callback;
+  std::unique_ptr<Pipeline> pipe;
+  std::uint64_t next_frame_id = 0;
+  double last_timestamp = -std::numeric_limits<double>::infinity();
+  bool shut_down = false;
+  std::string failure;  // the error track_rgbd threw that stopped the system (empty: none)
+};
+
+}  // namespace lrd

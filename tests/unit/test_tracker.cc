@@ -1,0 +1,182 @@
+// Tracker on synthetic geometry (a textured plane rendered exactly from known poses, local
+// mapping in lock-step): map initialization, motion-model tracking, the keyframe decision, loss
+// and recovery, and the moving-point check's place in the frame.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lrd/map/keyframe.h"
+#include "lrd/map/keyframe_database.h"
+#include "lrd/map/map.h"
+#include "lrd/mapping/local_mapper.h"
+#include "lrd/place/vocabulary.h"
+#include "lrd/tracking/tracker.h"
+#include "lrd/util/project_files.h"
+#include "textured_plane.h"
+
+namespace {
+
+using lrd::test::pose;
+using lrd::tracking::TrackingState;
+
+struct Rig {
+  lrd::test::TexturedPlane plane;
+  lrd::map::Map map;
+  lrd::mapping::LocalMapper mapper{map, lrd::mapping::LocalMapperParams{}, false};
+  lrd::tracking::Tracker tracker{map, mapper, lrd::tracking::TrackerParams{}};
+  std::uint64_t next_id = 0;
+
+  // Tracks the view from T_cw (the frame's pose is only the renderer's: tracking starts from its
+  // own prediction) and runs local mapping on what it queued.
+  lrd::tracking::TrackOutcome track(const Eigen::Isometry3d& T_cw) {
+    lrd::data::Frame f = plane.frame(next_id++, T_cw);
+    f.set_pose(Eigen::Isometry3d::Identity());
+    const auto outcome = tracker.track(f);
+    mapper.process_queued();
+    return outcome;
+  }
+  lrd::tracking::TrackOutcome track_blank() {
+    lrd::features::OrbExtractor extractor{lrd::features::OrbParams{}};
+    lrd::features::KeypointUndistorter undistorter(plane.camera());
+    const cv::Mat grey(plane.camera().height, plane.camera().width, CV_8U, cv::Scalar(0));
+    const cv::Mat depth(grey.size(), CV_32F, cv::Scalar(0.0f));
+    lrd::data::Frame f(next_id, 0.1 * static_cast<double>(next_id), grey, depth, cv::Mat(), extractor,
+                       undistorter, plane.camera());
+    ++next_id;
+    return tracker.track(f);
+  }
+};
+
+double translation_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return (a.inverse().translation() - b.inverse().translation()).norm();
+}
+double rotation_error_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
+}
+
+TEST(Tracker, FirstFrameWithDepthStartsTheMapAtTheWorldOrigin) {
+  Rig rig;
+  const auto outcome = rig.track(Eigen::Isometry3d::Identity());
+  ASSERT_EQ(outcome.state, TrackingState::Ok);
+  ASSERT_NE(outcome.new_keyframe, nullptr);
+  ASSERT_TRUE(outcome.T_cw.has_value());
+  EXPECT_TRUE(outcome.T_cw->isApprox(Eigen::Isometry3d::Identity(), 1e-12));
+  EXPECT_EQ(rig.map.keyframe_count(), 1u);
+  // One map point per keypoint with depth (every keypoint: the plane fills the view).
+  EXPECT_GT(rig.map.map_point_count(), 500u);
+  EXPECT_EQ(rig.map.map_point_count(), static_cast<std::size_t>(outcome.inliers));
+}
+
+TEST(Tracker, WithoutEnoughDepthTheMapIsNotStarted) {
+  Rig rig;
+  const auto outcome = rig.track_blank();
+  EXPECT_EQ(outcome.state, TrackingState::NotInitialized);
+  EXPECT_EQ(outcome.new_keyframe, nullptr);
+  EXPECT_FALSE(outcome.T_cw.has_value());
+  EXPECT_EQ(rig.map.keyframe_count(), 0u);
+}
+
+TEST(Tracker, MotionModelFollowsASmoothPathWithinMillimetres) {
+  Rig rig;
+  double worst_t = 0.0, worst_r = 0.0;
+  for (int k = 0; k < 25; ++k) {
+    // 8 mm and 0.2 degrees a frame: a hand-held camera at 30 Hz.
+    const Eigen::Isometry3d T_cw = pose(0.0, 0.0035 * k, 0.0, -0.008 * k, 0.002 * k, 0.0);
+    const auto outcome = rig.track(T_cw);
+    ASSERT_EQ(outcome.state, TrackingState::Ok) << "frame " << k;
+    ASSERT_TRUE(outcome.T_cw.has_value());
+    worst_t = std::max(worst_t, translation_error(*outcome.T_cw, T_cw));
+    worst_r = std::max(worst_r, rotation_error_deg(*outcome.T_cw, T_cw));
+    EXPECT_GT(outcome.inliers, 100) << "frame " << k;
+  }
+  EXPECT_LT(worst_t, 0.005);
+  EXPECT_LT(worst_r, 0.2);
+}
+
+TEST(Tracker, AStillCameraMakesNoNewKeyframesAMovingOneDoes) {
+  Rig rig;
+  ASSERT_NE(rig.track(Eigen::Isometry3d::Identity()).new_keyframe, nullptr);
+  int still_keyframes = 0;
+  for (int k = 0; k < 45; ++k)
+    still_keyframes += rig.track(Eigen::Isometry3d::Identity()).new_keyframe != nullptr;
+  EXPECT_EQ(still_keyframes, 0);
+  // Sliding sideways until half of the first view has left the image: the tracked points cover
+  // too little of the view (the coverage rule) and keyframes follow.
+  int moving_keyframes = 0;
+  for (int k = 1; k <= 70; ++k) {
+    const auto outcome = rig.track(pose(0, 0, 0, -0.02 * k, 0, 0));
+    ASSERT_EQ(outcome.state, TrackingState::Ok) << "step " << k;
+    if (outcome.new_keyframe != nullptr) {
+      ++moving_keyframes;
+      EXPECT_EQ(outcome.new_keyframe->frame_id(), rig.next_id - 1);
+    }
+  }
+  EXPECT_GE(moving_keyframes, 2);
+  EXPECT_EQ(rig.map.keyframe_count(), static_cast<std::size_t>(1 + moving_keyframes));
+}
+
+TEST(Tracker, LossIsAStateAndTrackingResumesWhenTheViewComesBack) {
+  Rig rig;
+  lrd::map::KeyFrameDatabase database;
+  const auto vocabulary = lrd::place::Vocabulary::load(lrd::util::find_project_file("vocab/orb_vocab.lrdv"));
+  rig.tracker.set_place_recognition(&vocabulary, &database);
+  rig.mapper.set_place_recognition(&vocabulary, &database);
+  for (int k = 0; k < 10; ++k) ASSERT_EQ(rig.track(pose(0, 0, 0, -0.005 * k, 0, 0)).state, TrackingState::Ok);
+  // A covered lens for three frames.
+  for (int k = 0; k < 3; ++k) {
+    const auto lost = rig.track_blank();
+    EXPECT_EQ(lost.state, TrackingState::Lost);
+    EXPECT_FALSE(lost.T_cw.has_value());
+    EXPECT_EQ(lost.new_keyframe, nullptr);
+  }
+  // The view comes back 3 cm further on: the pose is found again, without a jump.
+  const Eigen::Isometry3d back = pose(0, 0.01, 0, -0.075, 0, 0);
+  const auto outcome = rig.track(back);
+  ASSERT_EQ(outcome.state, TrackingState::Ok);
+  EXPECT_TRUE(outcome.relocalized);
+  EXPECT_EQ(rig.tracker.relocalizations(), 1);
+  EXPECT_LT(translation_error(*outcome.T_cw, back), 0.01);
+  EXPECT_LT(rotation_error_deg(*outcome.T_cw, back), 0.5);
+}
+
+// A check that removes every keypoint in the left third of the image, as a moving person would.
+struct LeftThirdIsMoving : lrd::dynamic::MovingPointCheck {
+  int calls = 0;
+  lrd::dynamic::GeometryStats remove_moving_points(lrd::data::Frame& frame,
+                                                   const std::vector<lrd::map::KeyFrame*>& nearby) override {
+    ++calls;
+    EXPECT_FALSE(nearby.empty());
+    std::vector<bool> drop(frame.size());
+    int n = 0;
+    for (std::size_t i = 0; i < frame.size(); ++i)
+      n += (drop[i] = frame.keypoints()[i].pt.x < 213.0f) ? 1 : 0;
+    frame.remove_keypoints(drop);
+    return {n, n, 0.0};
+  }
+};
+
+TEST(Tracker, TheMovingPointCheckRunsBeforeTheFinalPoseAndItsPointsNeverReachTheMap) {
+  Rig rig;
+  LeftThirdIsMoving check;
+  rig.tracker.set_moving_point_check(&check);
+  ASSERT_EQ(rig.track(Eigen::Isometry3d::Identity()).state, TrackingState::Ok);
+  EXPECT_EQ(check.calls, 0);  // initialization has no pose estimate to check
+  float leftmost_in_new_keyframes = 1e9f;
+  int new_keyframes = 0;
+  for (int k = 1; k <= 60; ++k) {
+    const Eigen::Isometry3d T_cw = pose(0, 0, 0, -0.02 * k, 0, 0);
+    const auto outcome = rig.track(T_cw);
+    ASSERT_EQ(outcome.state, TrackingState::Ok);
+    EXPECT_GT(outcome.geometry.keypoints_removed, 50);
+    EXPECT_LT(translation_error(*outcome.T_cw, T_cw), 0.01);  // 1.2 m of motion: drift below 1 %
+    if (outcome.new_keyframe == nullptr) continue;
+    ++new_keyframes;
+    for (const cv::KeyPoint& kp : outcome.new_keyframe->features().keypoints())
+      leftmost_in_new_keyframes = std::min(leftmost_in_new_keyframes, kp.pt.x);
+  }
+  EXPECT_EQ(check.calls, 60);
+  ASSERT_GE(new_keyframes, 1);  // 1.2 m sideways: the view has moved on
+  EXPECT_GE(leftmost_in_new_keyframes, 213.0f);
+}
+
+}  // namespace
