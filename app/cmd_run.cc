@@ -4,9 +4,11 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -22,14 +24,17 @@ std::atomic<bool> interrupt_requested{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
 
 extern "C" void on_interrupt(int /*signal*/) {
+  const int saved_errno = errno;  // write() may change it under the interrupted thread
   if (interrupt_requested.exchange(true)) _exit(130);
   constexpr char kMessage[] = "\ninterrupt: finishing and writing the outputs (again to quit at once)\n";
   [[maybe_unused]] const auto n = write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+  errno = saved_errno;
 }
 
 void handle_interrupts() {
   struct sigaction action {};
   action.sa_handler = on_interrupt;
+  action.sa_flags = SA_RESTART;  // the other threads' reads and writes go on
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
@@ -102,8 +107,11 @@ void print_report(const runner::RunReport& r) {
     std::printf("RPE RMSE: %.4f m/s  %.3f deg/s\n", r.rpe_trans_rmse, r.rpe_rot_rmse);
   }
   if (r.dense) print_dense(*r.dense);
-  std::printf("wrote %s/{CameraTrajectory.txt, KeyFrameTrajectory.txt, track_times.txt, summary.json%s}\n",
-              r.out.string().c_str(), r.dense ? ", dense_map.ply, dense_map.png" : "");
+  std::string written;
+  for (const char* f : {"CameraTrajectory.txt", "KeyFrameTrajectory.txt", "track_times.txt", "summary.json",
+                        "dense_map.ply", "dense_map.png"})
+    if (std::filesystem::exists(r.out / f)) written += (written.empty() ? "" : ", ") + std::string(f);
+  std::printf("wrote %s/{%s}\n", r.out.string().c_str(), written.c_str());
 }
 
 }  // namespace

@@ -15,18 +15,21 @@ void run_stage(const char* stage, Work&& work) {
     work();
   } catch (const std::exception& e) {
     throw Error(std::string(stage) + " thread: " + e.what());
+  } catch (...) {
+    throw Error(std::string(stage) + " thread: unknown error");
   }
 }
 }  // namespace
 
 Pipeline::Pipeline(const config::Config& cfg, const SystemParams& p, bool deterministic,
                    const place::Vocabulary* vocabulary, util::ThreadErrors& errors,
-                   events::EventPublisher& publisher)
+                   events::EventPublisher& publisher, std::uint32_t map_generation)
     : extractor(cfg.features),
       undistorter(cfg.camera),
       front_end(p.dynamic, p.segmentation, cfg.camera),
       mapper(map, p.mapping, !deterministic),
       tracker(map, mapper, p.tracking),
+      generation(map_generation),
       publisher_(publisher) {
   mapper.set_error_sink(&errors);
   tracker.set_moving_point_check(front_end.moving_point_check());
@@ -47,11 +50,20 @@ Pipeline::Pipeline(const config::Config& cfg, const SystemParams& p, bool determ
   if (p.dense.enabled) {
     dense = std::make_unique<dense::DenseMapper>(map, cfg.camera, p.dense, !deterministic);
     dense->set_error_sink(&errors);
-    dense->set_update_callback([this](double timestamp, std::size_t keyframes) {
+    dense->set_update_callback([this](double timestamp, std::size_t keyframes, const dense::RgbdView& view,
+                                      const dense::RepairResult* repair) {
       if (!publisher_.has_subscribers()) return;
-      const dense::RepairTotals totals = dense->repair_totals();
-      publisher_.publish(
-          events::DenseMapUpdated{timestamp, keyframes, totals.dynamic_pixels, totals.filled_pixels});
+      events::DenseMapUpdated e;
+      e.map = generation;
+      e.timestamp = timestamp;
+      e.keyframes = keyframes;
+      e.keyframe = view;
+      if (repair != nullptr) {
+        e.dynamic_pixels = static_cast<std::size_t>(repair->dynamic_pixels);
+        e.filled_pixels = static_cast<std::size_t>(repair->filled_pixels);
+        e.repair = *repair;
+      }
+      publisher_.publish(std::move(e));
     });
   }
 }
@@ -66,6 +78,7 @@ Pipeline::~Pipeline() {
 void Pipeline::publish_map_changed(std::uint64_t keyframe_id) {
   if (!publisher_.has_subscribers()) return;
   events::MapChanged e;
+  e.map = generation;
   e.keyframe_id = keyframe_id;
   {
     std::lock_guard lock(map.mutex());
@@ -80,7 +93,8 @@ void Pipeline::publish_map_changed(std::uint64_t keyframe_id) {
 
 void Pipeline::publish_loop(const loop::LoopEvent& loop) {
   if (!publisher_.has_subscribers()) return;
-  events::LoopClosed e{loop.frame_id,
+  events::LoopClosed e{generation,
+                       loop.frame_id,
                        loop.timestamp,
                        loop.keyframe_id,
                        loop.loop_keyframe_id,

@@ -29,9 +29,10 @@
 namespace lrd {
 
 struct Pipeline {
+  // `generation`: which map of the system this is (0, then 1, 2, ... after each reset).
   Pipeline(const config::Config& config, const SystemParams& params, bool deterministic,
-           const place::Vocabulary* vocabulary, util::ThreadErrors& errors,
-           events::EventPublisher& publisher);
+           const place::Vocabulary* vocabulary, util::ThreadErrors& errors, events::EventPublisher& publisher,
+           std::uint32_t generation);
   ~Pipeline();
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
@@ -52,6 +53,7 @@ struct Pipeline {
   std::unique_ptr<loop::LoopCloser> loop_closer;  // after `mapper`: destroyed first
   std::unique_ptr<dense::DenseMapper> dense;      // before `map` is destroyed: it reads keyframe poses
   bool shut_down = false;
+  const std::uint32_t generation;
 
  private:
   void publish_map_changed(std::uint64_t keyframe_id);

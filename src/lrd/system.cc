@@ -60,9 +60,12 @@ System::Impl::Impl(const config::Config& cfg, SystemParams p, SystemOptions opts
 }
 
 void System::Impl::start_pipeline() {
-  pipe =
-      std::make_unique<Pipeline>(config, params, options.deterministic, vocabulary.get(), errors, publisher);
-  if (repair_callback && pipe->dense) pipe->dense->set_repair_callback(repair_callback);
+  // Built whole before it replaces the old one: a failure leaves `pipe` as it was.
+  auto fresh = std::make_unique<Pipeline>(config, params, options.deterministic, vocabulary.get(), errors,
+                                          publisher, next_generation);
+  if (repair_callback && fresh->dense) fresh->dense->set_repair_callback(repair_callback);
+  pipe = std::move(fresh);
+  ++next_generation;
 }
 
 System::System(const config::Config& config, SystemOptions options)
@@ -75,7 +78,9 @@ System::~System() {
   try {
     shutdown();
   } catch (const std::exception& e) {
-    spdlog::error("shutdown: {}", e.what());
+    // While another exception unwinds the caller, that one is the error to report.
+    if (std::uncaught_exceptions() == 0) spdlog::error("shutdown: {}", e.what());
+  } catch (...) {
   }
 }
 
@@ -108,9 +113,17 @@ void System::shutdown() {
 void System::reset() {
   Impl& s = *impl_;
   if (s.shut_down) throw Error("reset: the system has been shut down");
-  s.pipe->shutdown();
-  s.errors.rethrow();
-  s.pipe.reset();
+  // The old map goes whatever state it is in; errors of its threads go with it (logged). A failed
+  // publisher cannot be restarted: its subscribers would miss the new map.
+  try {
+    s.pipe->shutdown();
+  } catch (const std::exception& e) {
+    spdlog::warn("reset: the old map's threads stopped with: {}", e.what());
+  }
+  if (s.publisher.failed()) throw Error("reset: " + s.errors.message());
+  if (s.errors.has_error()) spdlog::warn("reset: the old map stopped at: {}", s.errors.message());
+  s.errors.clear();
+  s.failure.clear();
   s.start_pipeline();
   s.last_timestamp = -std::numeric_limits<double>::infinity();
 }
@@ -162,6 +175,7 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
   Impl& s = *impl_;
   if (s.shut_down) throw Error("track_rgbd: the system has been shut down");
   if (!s.failure.empty()) throw Error(s.failure);
+  s.publisher.seal();  // subscribers are registered before the first frame
   if (s.errors.has_error()) {
     s.failure = s.errors.message();
     throw Error(s.failure);
@@ -217,8 +231,7 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
   auto extraction = data::Frame::Extraction::Full;
   if (p.front_end.uses_segmentation()) p.extractor.detect(grey);
   const auto w0 = Clock::now();
-  const dynamic::SemanticMask semantic =
-      p.front_end.mask(id, keeps_depth ? depth_m.clone() : depth_m, p.tracker.predicted_pose());
+  const dynamic::SemanticMask semantic = p.front_end.mask(id, depth_m, p.tracker.predicted_pose());
   if (p.front_end.uses_segmentation()) {
     if (!semantic.mask.empty()) {
       if (dynamic_mask.empty()) {
@@ -239,6 +252,10 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
   const auto t1 = Clock::now();
   const tracking::TrackOutcome outcome = p.tracker.track(frame);
   const auto t2 = Clock::now();
+  // The keyframe's event before those its processing causes (map changed, loop closed).
+  if (outcome.new_keyframe != nullptr && publisher.has_subscribers())
+    publisher.publish(events::KeyframeInserted{p.generation, outcome.new_keyframe_id, id, timestamp,
+                                               outcome.new_keyframe_T_wc, outcome.new_keyframe_points});
   // A new keyframe goes to the dense stage with its images.
   if (p.dense && outcome.new_keyframe != nullptr) {
     cv::Mat bgr;
@@ -267,7 +284,7 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
   result.dynamic.keypoints = static_cast<int>(frame.size());
   result.dynamic.mask = frame.dynamic_mask;
   if (outcome.T_cw) result.T_wc = outcome.T_cw->inverse();
-  p.front_end.frame_done(id, outcome.T_cw);
+  p.front_end.frame_done(id, outcome.T_cw, keeps_depth ? depth_m.clone() : cv::Mat());
   if (publisher.has_subscribers()) publish_frame(result, outcome, frame, grey, rgb.channels() == 1);
   return result;
 }

@@ -1,9 +1,7 @@
 // lrd::System's publishing: a tracked frame (and the keyframe it became) as events.
-#include <mutex>
 #include <vector>
 
 #include "lrd/data/frame.h"
-#include "lrd/map/keyframe.h"
 #include "lrd/system_impl.h"
 
 namespace lrd {
@@ -19,13 +17,8 @@ std::vector<cv::Point2f> points_of(const std::vector<cv::KeyPoint>& keypoints) {
 
 void System::Impl::publish_frame(const TrackResult& r, const tracking::TrackOutcome& outcome,
                                  const data::Frame& frame, const cv::Mat& grey, bool grey_shared) {
-  if (outcome.new_keyframe != nullptr) {
-    const map::KeyFrame* kf = outcome.new_keyframe;
-    std::lock_guard lock(pipe->map.mutex());
-    publisher.publish(events::KeyframeInserted{kf->id(), frame.id(), frame.timestamp(), kf->T_wc(),
-                                               static_cast<std::size_t>(kf->tracked_map_points(1))});
-  }
   events::FrameTracked e;
+  e.map = pipe->generation;
   e.frame_id = frame.id();
   e.timestamp = frame.timestamp();
   e.state = r.state;
@@ -36,7 +29,7 @@ void System::Impl::publish_frame(const TrackResult& r, const tracking::TrackOutc
   e.mask_age = r.dynamic.mask_age;
   e.geometric_keypoints = r.dynamic.geometric_keypoints;
   e.relocalized = outcome.relocalized;
-  if (outcome.new_keyframe != nullptr) e.new_keyframe = outcome.new_keyframe->id();
+  if (outcome.new_keyframe != nullptr) e.new_keyframe = outcome.new_keyframe_id;
   e.grey = grey_shared ? grey.clone() : grey;  // the caller may reuse its buffer
   e.mask = r.dynamic.mask.empty() ? cv::Mat() : r.dynamic.mask.clone();
   e.kept_keypoints = points_of(frame.keypoints());

@@ -29,6 +29,7 @@ struct System::Impl {
   events::EventPublisher publisher;  // before `pipe`: its threads publish until they stop
   dense::DenseMapper::RepairCallback repair_callback;
   std::unique_ptr<Pipeline> pipe;
+  std::uint32_t next_generation = 0;  // the next Pipeline's map number
   std::uint64_t next_frame_id = 0;
   double last_timestamp = -std::numeric_limits<double>::infinity();
   bool shut_down = false;

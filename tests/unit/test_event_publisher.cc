@@ -42,7 +42,7 @@ TEST(EventPublisher, DeliversEveryEventInOrderOnItsOwnThread) {
   publisher.subscribe(b);
   for (std::uint64_t i = 0; i < 100; ++i) {
     publisher.publish(frame(i));
-    if (i % 10 == 0) publisher.publish(lrd::events::KeyframeInserted{i / 10, i, 0.0, {}, 0});
+    if (i % 10 == 0) publisher.publish(lrd::events::KeyframeInserted{0, i / 10, i, 0.0, {}, 0});
   }
   publisher.shutdown();
   ASSERT_EQ(a->frames.size(), 100u);
@@ -81,7 +81,7 @@ TEST(EventPublisher, BoundedQueueDropsTheOldestFramesOnly) {
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
   for (std::uint64_t i = 1; i <= 50; ++i) {
     publisher.publish(frame(i));
-    if (i == 25) publisher.publish(lrd::events::KeyframeInserted{7, 25, 0.0, {}, 0});
+    if (i == 25) publisher.publish(lrd::events::KeyframeInserted{0, 7, 25, 0.0, {}, 0});
   }
   slow->block = false;
   publisher.shutdown();

@@ -14,6 +14,8 @@
 
 #include "lrd/loop/loop_closer.h"
 #include "lrd/mapping/local_mapper.h"
+#include "lrd/util/fault_injection.h"
+#include "lrd/util/thread_errors.h"
 #include "map_scene.h"
 
 using lrd::loop::LoopCloser;
@@ -203,4 +205,25 @@ TEST(LoopCloser, WithoutAConsistentLoopNothingMoves) {
   // Examined keyframes are not left protected from culling.
   s.back[1]->set_bad();
   EXPECT_TRUE(s.back[1]->is_bad());
+}
+
+// A failure in the global-BA thread (injected, util/fault_injection.h) is kept for the owner with
+// the thread's name; the loop-closing thread and shutdown go on without std::terminate.
+TEST(LoopCloser, AGlobalBaFailureIsKeptNamingItsThread) {
+  ClosingScene c;
+  LoopScene& s = c.s;
+  lrd::util::ThreadErrors errors;
+  lrd::util::set_fault_point("global_ba");
+  {
+    lrd::mapping::LocalMapper mapper(s.map, {}, false);
+    LoopCloser closer(s.map, c.db, mapper, params(true), true);  // threaded
+    closer.set_error_sink(&errors);
+    for (KeyFrame* kf : s.back) closer.insert_keyframe(kf);
+    closer.shutdown();  // joins the loop-closing and global-BA threads
+    EXPECT_EQ(closer.stats().loops.size(), 1u);
+    EXPECT_EQ(closer.stats().global_bundle_adjustments, 0);
+  }
+  lrd::util::set_fault_point("");
+  ASSERT_TRUE(errors.has_error());
+  EXPECT_EQ(errors.message(), "global BA thread: injected failure at global_ba (LRDSLAM_FAIL_AT)");
 }

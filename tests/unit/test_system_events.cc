@@ -105,6 +105,14 @@ TEST(SystemEvents, OneFrameEventPerFrameWithThePoseTrackingReturned) {
   EXPECT_EQ(slam.publisher_stats().dropped_frames, 0u);
 }
 
+TEST(SystemEvents, SubscribersComeBeforeTheFirstFrame) {
+  lrd::System slam(config());
+  slam.subscribe(std::make_shared<Watcher>());
+  const auto& f = frames().frames.front();
+  (void)slam.track_rgbd(f.rgb, f.depth, f.timestamp);
+  EXPECT_THROW(slam.subscribe(std::make_shared<Watcher>()), lrd::Error);
+}
+
 TEST(SystemEvents, ResetStartsANewMapInTheSameProcess) {
   lrd::SystemOptions options;
   options.deterministic = true;

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "lrd/dense/voxel_grid.h"
 #include "lrd/map/keyframe.h"
@@ -33,6 +34,7 @@ DenseMapper::~DenseMapper() {
     shutdown();
   } catch (const std::exception& e) {
     spdlog::error("dense mapping: {}", e.what());
+  } catch (...) {
   }
 }
 
@@ -126,13 +128,14 @@ void DenseMapper::process(Pending p) {
   // mask's buffer: OpenCV would evaluate it into that buffer and change the stored mask.
   cv::Mat exclude = p.view.dynamic;
   RgbdView repaired_view = p.view;
+  std::optional<RepairResult> repair;
   if (params_.repair.enabled && !p.view.dynamic.empty() && cv::countNonZero(p.view.dynamic) > 0) {
     // The newest repair.keyframes of the kept keyframes.
     std::vector<const RgbdView*> sources;
     const std::size_t first =
         recent_.size() - std::min<std::size_t>(recent_.size(), params_.repair.keyframes);
     for (std::size_t k = first; k < recent_.size(); ++k) sources.push_back(&recent_[k].view);
-    const RepairResult rep = repairer_.repair(p.view, sources);
+    const RepairResult& rep = repair.emplace(repairer_.repair(p.view, sources));
     if (on_repair_) on_repair_(p.kf->timestamp(), p.view, rep);
     repaired_view.bgr = rep.bgr;
     repaired_view.depth = rep.depth;
@@ -174,13 +177,12 @@ void DenseMapper::process(Pending p) {
     stored_.push_back({p.kf, std::move(local), std::move(votes)});
     keyframes = stored_.size();
   }
-  const double timestamp = p.kf->timestamp();
+  if (on_update_) on_update_(p.kf->timestamp(), keyframes, p.view, repair ? &*repair : nullptr);
   // The sources are the original images (a repaired pixel is another keyframe's, not a new view).
   recent_.push_back(std::move(p));
   const auto keep =
       static_cast<std::size_t>(std::max(params_.repair.keyframes, params_.free_space.keyframes));
   while (recent_.size() > keep) recent_.pop_front();
-  if (on_update_) on_update_(timestamp, keyframes);
 }
 
 PointCloud DenseMapper::keyframe_cloud(const RgbdView& view, const cv::Mat& exclude) const {

@@ -49,8 +49,11 @@ class DenseMapper {
   DenseMapper& operator=(const DenseMapper&) = delete;
 
   void set_repair_callback(RepairCallback cb) { on_repair_ = std::move(cb); }
-  // Called in the dense thread after each keyframe is in the map (its timestamp, keyframes so far).
-  using UpdateCallback = std::function<void(double timestamp, std::size_t keyframes)>;
+  // Called in the dense thread after each keyframe is in the map: its timestamp, the keyframes so
+  // far, its view (original images) and its repair (null when it had nothing dynamic). The images
+  // are shared, not copied: read them only.
+  using UpdateCallback = std::function<void(double timestamp, std::size_t keyframes, const RgbdView& keyframe,
+                                            const RepairResult* repair)>;
   void set_update_callback(UpdateCallback cb) { on_update_ = std::move(cb); }
   // The dense thread's error also goes here (besides shutdown()'s rethrow). Set before use.
   void set_error_sink(util::ThreadErrors* errors) { errors_ = errors; }

@@ -132,10 +132,11 @@ GeometryStats DynamicFrontEnd::remove_moving_points(data::Frame& f,
   return stats;
 }
 
-void DynamicFrontEnd::frame_done(std::uint64_t id, const std::optional<Eigen::Isometry3d>& T_cw) {
+void DynamicFrontEnd::frame_done(std::uint64_t id, const std::optional<Eigen::Isometry3d>& T_cw,
+                                 cv::Mat own_depth) {
   // Only a carried-over mask needs the history.
   if (worker_) {
-    recent_.push_back({id, current_depth_, T_cw});
+    recent_.push_back({id, own_depth.empty() ? current_depth_ : own_depth, T_cw});
     if (recent_.size() > kRecentFrames) recent_.pop_front();
   }
   current_depth_ = cv::Mat();

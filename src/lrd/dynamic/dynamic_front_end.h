@@ -63,12 +63,13 @@ class DynamicFrontEnd final : public MovingPointCheck {
   void submit(std::uint64_t id, double timestamp, const cv::Mat& rgb);
   // The semantic mask for frame `id` (sync: its own; async: the newest within the wait bound,
   // carried over along `predicted_T_cw`); `depth` (CV_32FC1 metres) is kept for the geometry
-  // check and the history.
+  // check and the history (see frame_done).
   [[nodiscard]] SemanticMask mask(std::uint64_t id, const cv::Mat& depth,
                                   const std::optional<Eigen::Isometry3d>& predicted_T_cw);
   GeometryStats remove_moving_points(data::Frame& frame, const std::vector<map::KeyFrame*>& nearby) override;
-  // Frame `id` is tracked (T_cw) or lost (empty).
-  void frame_done(std::uint64_t id, const std::optional<Eigen::Isometry3d>& T_cw);
+  // Frame `id` is tracked (T_cw) or lost (empty). `own_depth`: the frame's depth for the history
+  // when the one given to mask() is the caller's buffer (empty: keep that one).
+  void frame_done(std::uint64_t id, const std::optional<Eigen::Isometry3d>& T_cw, cv::Mat own_depth = {});
 
   // Stops the segmentation thread. Idempotent.
   void shutdown();

@@ -16,11 +16,13 @@ EventPublisher::~EventPublisher() {
 
 void EventPublisher::subscribe(std::shared_ptr<Subscriber> subscriber) {
   std::lock_guard lock(mutex_);
-  if (started_) throw Error("subscribe: subscribers must be registered before the first frame");
+  if (started_ || sealed_.load())
+    throw Error("subscribe: subscribers must be registered before the first frame");
   if (subscriber) subscribers_.push_back(std::move(subscriber));
 }
 
 void EventPublisher::publish(Event event) {
+  seal();
   if (subscribers_.empty()) return;
   {
     std::lock_guard lock(mutex_);

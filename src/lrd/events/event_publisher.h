@@ -8,6 +8,7 @@
 // The queue is unbounded by default (the CLI runner needs every frame); with max_queued_frames
 // set, the oldest queued FrameTracked events are dropped past it (a live viewer wants the newest
 // frame, not a backlog) and counted. Other events are never dropped.
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -50,9 +51,17 @@ class EventPublisher {
   EventPublisher(const EventPublisher&) = delete;
   EventPublisher& operator=(const EventPublisher&) = delete;
 
-  // Before the first publish(); throws lrd::Error after it.
+  // Before seal() (System seals at its first frame) and the first publish(); throws lrd::Error
+  // after.
   void subscribe(std::shared_ptr<Subscriber> subscriber);
-  [[nodiscard]] bool has_subscribers() const { return !subscribers_.empty(); }
+  // No more subscribers from now on: from here, the list is read without a lock by any thread.
+  void seal() { sealed_.store(true); }
+  [[nodiscard]] bool has_subscribers() const { return sealed_.load() && !subscribers_.empty(); }
+  // A subscriber threw: delivery has stopped for good.
+  [[nodiscard]] bool failed() const {
+    std::lock_guard lock(mutex_);
+    return failed_;
+  }
   // Any thread. Does nothing without subscribers.
   void publish(Event event);
   // Waits until everything published so far is delivered (or delivery stopped on an error).
@@ -68,6 +77,7 @@ class EventPublisher {
   util::ThreadErrors& errors_;
   const std::size_t max_queued_frames_;
   std::vector<std::shared_ptr<Subscriber>> subscribers_;
+  std::atomic<bool> sealed_{false};
   mutable std::mutex mutex_;
   std::condition_variable ready_, drained_;
   std::deque<Event> queue_;

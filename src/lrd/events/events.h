@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "lrd/dense/background_repairer.h"
+#include "lrd/dense/rgbd_view.h"
 #include "lrd/tracking/tracking_state.h"
 
 namespace lrd::events {
@@ -28,7 +30,11 @@ struct FrameTiming {
 };
 
 // One frame, tracked or not.
+// Every event names the map it belongs to: System::reset() starts map 1, 2, ... (keyframe ids
+// start again at 0 in each), so a subscriber can tell an old map's late events from the new one's.
+
 struct FrameTracked {
+  std::uint32_t map = 0;
   std::uint64_t frame_id = 0;  // 0, 1, 2, ... in the order given to track_rgbd
   double timestamp = 0.0;
   tracking::TrackingState state = tracking::TrackingState::NotInitialized;
@@ -47,6 +53,7 @@ struct FrameTracked {
 };
 
 struct KeyframeInserted {
+  std::uint32_t map = 0;
   std::uint64_t keyframe_id = 0;
   std::uint64_t frame_id = 0;
   double timestamp = 0.0;
@@ -62,6 +69,7 @@ struct KeyframePose {
 
 // A loop was closed: the pose graph has moved the keyframes (poses after the correction).
 struct LoopClosed {
+  std::uint32_t map = 0;
   std::uint64_t frame_id = 0;
   double timestamp = 0.0;
   std::uint64_t keyframe_id = 0;
@@ -73,6 +81,7 @@ struct LoopClosed {
 
 // Local mapping finished a keyframe: what it changed in the map.
 struct MapChanged {
+  std::uint32_t map = 0;
   std::uint64_t keyframe_id = 0;
   std::size_t keyframes = 0;            // in the map now
   std::size_t map_points = 0;           // in the map now
@@ -80,12 +89,15 @@ struct MapChanged {
   std::size_t triangulated_points = 0;  // so far
 };
 
-// The dense stage integrated a keyframe.
+// The dense stage integrated a keyframe (its images are shared with the dense stage: read only).
 struct DenseMapUpdated {
+  std::uint32_t map = 0;
   double timestamp = 0.0;  // the keyframe's
   std::size_t keyframes = 0;
-  std::size_t dynamic_pixels = 0;  // in this keyframe
-  std::size_t filled_pixels = 0;   // of those, repaired
+  std::size_t dynamic_pixels = 0;             // in this keyframe
+  std::size_t filled_pixels = 0;              // of those, repaired
+  dense::RgbdView keyframe;                   // colour, depth and dynamic mask as tracking gave them
+  std::optional<dense::RepairResult> repair;  // the background repair, when it had dynamic pixels
 };
 
 }  // namespace lrd::events

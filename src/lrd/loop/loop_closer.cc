@@ -68,6 +68,7 @@ LoopCloser::~LoopCloser() {
     shutdown();
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
+  } catch (...) {
   }
 }
 

@@ -52,6 +52,7 @@ LocalMapper::~LocalMapper() {
     shutdown();
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
+  } catch (...) {
   }
 }
 

@@ -11,19 +11,24 @@
 #include "lrd/dense/background_repairer.h"
 #include "lrd/dense/point_cloud.h"
 #include "lrd/eval/map_accuracy.h"
+#include "lrd/events/event_publisher.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/io/tum_sequence.h"
 
 namespace lrd::runner {
 
-// The repair callback of a run: writes the repaired keyframes (--save-repaired) and compares the
-// filled depths with the static scene's depth where the sequence has one (static/depth/).
-class RepairRecorder {
+// A subscriber of a run's dense-map events: writes the repaired keyframes (--save-repaired) and
+// compares the filled depths with the static scene's depth where the sequence has one
+// (static/depth/).
+class RepairRecorder final : public events::Subscriber {
  public:
   RepairRecorder(const io::TumSequence& sequence, double depth_factor,
                  std::optional<std::filesystem::path> save_dir);
 
-  // Called in the dense thread for each repaired keyframe.
+  void on_dense_map(const events::DenseMapUpdated& e) override {
+    if (e.repair) record(e.timestamp, e.keyframe, *e.repair);
+  }
+  // Each repaired keyframe (on the publisher's thread).
   void record(double timestamp, const dense::RgbdView& keyframe, const dense::RepairResult& repair);
 
   [[nodiscard]] bool has_truth() const { return has_truth_; }

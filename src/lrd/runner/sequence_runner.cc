@@ -100,7 +100,7 @@ bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o
 // Trajectories, ATE/RPE against the sequence's ground truth, the dense map, summary.json.
 void evaluate(RunReport& report, const System& slam, const RunOptions& o, const io::TumSequence& seq,
               const config::Config& cfg, const SystemParams& params,
-              const std::optional<RepairRecorder>& repairs) {
+              const std::shared_ptr<RepairRecorder>& repairs) {
   summarize_log(report);
   report.map = slam.map_stats();
   report.loops = slam.loops();
@@ -163,15 +163,13 @@ RunReport run_sequence(const RunOptions& options) {
   SystemOptions sopts;
   sopts.deterministic = o.deterministic;
   // Declared before the system, so they outlive its threads (also on errors).
-  std::optional<RepairRecorder> repairs;
+  std::shared_ptr<RepairRecorder> repairs;
   auto recorder = std::make_shared<RunRecorder>(seq, frames.size(), o.progress, o.save_masks);
   std::shared_ptr<FlagScorer> scorer;
   System slam(cfg, params, sopts);
   if (slam.dense_enabled()) {
-    repairs.emplace(seq, cfg.camera.depth_map_factor, o.save_repaired);
-    slam.set_repair_callback([&repairs](double t, const dense::RgbdView& kf, const dense::RepairResult& r) {
-      repairs->record(t, kf, r);
-    });
+    repairs = std::make_shared<RepairRecorder>(seq, cfg.camera.depth_map_factor, o.save_repaired);
+    slam.subscribe(repairs);
   }
   slam.subscribe(recorder);
   // Ground-truth masks (synthetic benchmark): the dynamic flags are scored on every n-th frame.
@@ -188,6 +186,8 @@ RunReport run_sequence(const RunOptions& options) {
   report.interrupted = !track_frames(slam, frames, o, cfg.camera.rgb_order, wall0);
   if (report.interrupted) spdlog::warn("interrupted: finishing the queued work and writing the outputs");
   slam.shutdown();
+  // A signal while the queued work finished still counts (its handler promised the outputs).
+  report.interrupted = report.interrupted || (o.interrupt != nullptr && o.interrupt->load());
   report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const io::DecodeStats ds = frames.stats();
   report.decode_seconds = ds.decode_seconds;

@@ -86,6 +86,11 @@ void SegmentationWorker::run() {
       error_ = std::make_exception_ptr(Error(segmenter_->describe() + ": " + e.what()));
       result_ready_.notify_all();
       return;
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      error_ = std::make_exception_ptr(Error("segmenter: unknown error"));
+      result_ready_.notify_all();
+      return;
     }
     {
       std::lock_guard lock(mutex_);

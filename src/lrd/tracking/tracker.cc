@@ -99,6 +99,11 @@ TrackOutcome Tracker::track(data::Frame& frame) {
     }
   }
   record(frame);
+  if (outcome.new_keyframe != nullptr) {
+    outcome.new_keyframe_id = outcome.new_keyframe->id();
+    outcome.new_keyframe_T_wc = outcome.new_keyframe->T_wc();
+    outcome.new_keyframe_points = static_cast<std::size_t>(outcome.new_keyframe->tracked_map_points(1));
+  }
   outcome.state = state_;
   outcome.inliers = inliers_;
   if (state_ == TrackingState::Ok && frame.has_pose()) outcome.T_cw = frame.T_cw();

@@ -48,9 +48,14 @@ struct TrackOutcome {
   std::optional<Eigen::Isometry3d> T_cw;  // world-to-camera, when tracking is OK
   int inliers = 0;                        // map points matched and kept by the pose optimization
   map::KeyFrame* new_keyframe = nullptr;  // the keyframe this frame became (also the first one)
-  bool relocalized = false;               // recovered from loss on this frame by place recognition
-  dynamic::GeometryStats geometry;        // the moving-point check (zero without one)
-  double wait_seconds = 0.0;              // waiting for local mapping to release the map
+  // ... read under the map mutex, for callers that must not take it: its id, pose (camera-to-
+  // world) and the map points it observes.
+  std::uint64_t new_keyframe_id = 0;
+  Eigen::Isometry3d new_keyframe_T_wc = Eigen::Isometry3d::Identity();
+  std::size_t new_keyframe_points = 0;
+  bool relocalized = false;         // recovered from loss on this frame by place recognition
+  dynamic::GeometryStats geometry;  // the moving-point check (zero without one)
+  double wait_seconds = 0.0;        // waiting for local mapping to release the map
 };
 
 class Tracker {

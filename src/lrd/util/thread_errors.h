@@ -1,8 +1,8 @@
 #pragma once
 // The first error of any worker thread, kept for the thread that owns the workers: a worker
 // catches what it throws, records it here with its thread's name and stops; the owner rethrows it
-// as one lrd::Error ("local mapping thread: ...") at its next call. No exception ever leaves a
-// thread function, so no path leads to std::terminate.
+// as one lrd::Error ("local mapping thread: ...") at its next call, so no exception leaves a
+// thread function.
 #include <atomic>
 #include <exception>
 #include <mutex>
@@ -14,20 +14,31 @@ namespace lrd::util {
 
 class ThreadErrors {
  public:
-  // Call inside a catch block (it reads std::current_exception()). Later errors are logged only.
+  // Call inside a catch block (it reads std::current_exception()). Later errors are dropped: the
+  // first is the cause.
   void capture(const std::string& thread) noexcept {
-    const std::exception_ptr e = std::current_exception();
-    std::string message = "unknown error";
     try {
-      if (e) std::rethrow_exception(e);
-    } catch (const std::exception& x) {
-      message = x.what();
-    } catch (...) {
+      const std::exception_ptr e = std::current_exception();
+      std::string message = "unknown error";
+      try {
+        if (e) std::rethrow_exception(e);
+      } catch (const std::exception& x) {
+        message = x.what();
+      } catch (...) {
+      }
+      std::lock_guard lock(mutex_);
+      if (has_error_.load()) return;
+      message_ = thread + " thread: " + message;
+      has_error_.store(true);
+    } catch (...) {  // out of memory for the message: keep that there was an error
+      has_error_.store(true);
     }
+  }
+  // Forgets the error (System::reset starts a new map).
+  void clear() {
     std::lock_guard lock(mutex_);
-    if (has_error_.load()) return;
-    message_ = thread + " thread: " + message;
-    has_error_.store(true);
+    message_.clear();
+    has_error_.store(false);
   }
   [[nodiscard]] bool has_error() const { return has_error_.load(); }
   [[nodiscard]] std::string message() const {
