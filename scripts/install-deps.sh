@@ -9,7 +9,7 @@ PACKAGES=(
   clang-format-14  # the format check (scripts/check-format.sh, a ctest test)
   graphviz         # docs/architecture: the picture from its text source
   # libraries
-  libopencv-dev libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev
+  libopencv-dev libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev zlib1g-dev
   nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
   # Python side (tests, reference evaluators, FNet training) — always /usr/bin/python3
   python3 python3-numpy python3-opencv python3-pytest python3-yaml

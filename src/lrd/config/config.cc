@@ -5,6 +5,7 @@
 #include <string>
 
 #include "lrd/config/orbslam_settings.h"
+#include "lrd/config/plausibility.h"
 #include "lrd/util/error.h"
 
 namespace lrd::config {
@@ -64,6 +65,7 @@ camera::PinholeCamera read_camera(NodeReader& r, std::optional<features::OrbPara
   r.check(cam.th_depth > 0.0, "th_depth", "must be > 0");
   r.check(cam.depth_map_factor > 0.0, "depth_map_factor", "must be > 0");
   r.check(cam.disparity_sigma > 0.0, "disparity_sigma", "must be > 0");
+  if (const auto bad = implausible_camera(cam)) r.check(false, bad->field, bad->problem);
   r.finish();
   return cam;
 }
@@ -81,6 +83,7 @@ features::OrbParams read_features(NodeReader& r, const features::OrbParams& base
   r.check(orb.ini_th_fast > 0 && orb.ini_th_fast < 256, "ini_th_fast", "must be in [1, 255]");
   r.check(orb.min_th_fast > 0 && orb.min_th_fast <= orb.ini_th_fast, "min_th_fast",
           "must be in [1, ini_th_fast]");
+  if (const auto bad = implausible_orb(orb)) r.check(false, bad->field, bad->problem);
   r.finish();
   return orb;
 }

@@ -3,10 +3,12 @@
 #include <charconv>
 #include <cmath>
 #include <initializer_list>
+#include <map>
 #include <opencv2/core/persistence.hpp>
 #include <optional>
 #include <string>
 
+#include "lrd/config/plausibility.h"
 #include "lrd/util/error.h"
 
 namespace lrd::config {
@@ -117,6 +119,14 @@ features::OrbParams read_orb(const SettingsFile& f) {
   f.check(orb.n_levels >= 1, "ORBextractor.nLevels", "must be >= 1");
   f.check(orb.ini_th_fast > 0, "ORBextractor.iniThFAST", "must be > 0");
   f.check(orb.min_th_fast > 0, "ORBextractor.minThFAST", "must be > 0");
+  if (const auto bad = implausible_orb(orb)) {
+    const std::map<std::string, std::string> key = {{"n_features", "ORBextractor.nFeatures"},
+                                                    {"scale_factor", "ORBextractor.scaleFactor"},
+                                                    {"n_levels", "ORBextractor.nLevels"},
+                                                    {"ini_th_fast", "ORBextractor.iniThFAST"},
+                                                    {"min_th_fast", "ORBextractor.minThFAST"}};
+    f.check(false, key.at(bad->field), bad->problem);
+  }
   return orb;
 }
 
@@ -180,6 +190,17 @@ Settings read_orbslam_settings(const std::filesystem::path& file) {
   f.check(cam.bf > 0.0, v3 ? "Stereo.b" : "Camera.bf", "must be > 0");
   f.check(cam.th_depth > 0.0, v3 ? "Stereo.ThDepth" : "ThDepth", "must be > 0");
   f.check(cam.depth_map_factor > 0.0, v3 ? "RGBD.DepthMapFactor" : "DepthMapFactor", "must be > 0");
+  if (const auto bad = implausible_camera(cam)) {
+    const std::map<std::string, std::string> key = {
+        {"width", "Camera.width"},
+        {"height", "Camera.height"},
+        {"fps", "Camera.fps"},
+        {"bf", v3 ? "Stereo.b" : "Camera.bf"},
+        {"th_depth", v3 ? "Stereo.ThDepth" : "ThDepth"},
+        {"depth_map_factor", v3 ? "RGBD.DepthMapFactor" : "DepthMapFactor"}};
+    const auto it = key.find(bad->field);
+    f.check(false, it != key.end() ? it->second : c + bad->field, bad->problem);
+  }
 
   s.orb = read_orb(f);
   return s;

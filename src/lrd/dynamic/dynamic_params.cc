@@ -40,11 +40,12 @@ DynamicParams DynamicParams::from_config(config::NodeReader r) {
   q.max_parallax_deg = g.get("max_parallax_deg", q.max_parallax_deg);
   g.check(q.max_parallax_deg > 0 && q.max_parallax_deg <= 180, "max_parallax_deg", "must be in (0, 180]");
   q.depth_threshold = g.get("depth_threshold", q.depth_threshold);
-  g.check(q.depth_threshold > 0, "depth_threshold", "must be > 0");
+  g.check(q.depth_threshold > 0 && q.depth_threshold <= 10, "depth_threshold", "must be in (0, 10] m");
   q.depth_threshold_slope = g.get("depth_threshold_slope", q.depth_threshold_slope);
-  g.check(q.depth_threshold_slope >= 0, "depth_threshold_slope", "must be >= 0");
+  g.check(q.depth_threshold_slope >= 0 && q.depth_threshold_slope <= 10, "depth_threshold_slope",
+          "must be in [0, 10]");
   q.max_depth = g.get("max_depth", q.max_depth);
-  g.check(q.max_depth > 0, "max_depth", "must be > 0");
+  g.check(q.max_depth > 0 && q.max_depth <= 100, "max_depth", "must be in (0, 100] m");
   q.neighbourhood = g.get("neighbourhood", q.neighbourhood);
   g.check(q.neighbourhood >= 0 && q.neighbourhood <= 10, "neighbourhood", "must be in [0, 10]");
   q.neighbourhood_agreement = g.get("neighbourhood_agreement", q.neighbourhood_agreement);
@@ -57,13 +58,15 @@ DynamicParams DynamicParams::from_config(config::NodeReader r) {
   q.grow_band = g.get("grow_band", q.grow_band);
   q.grow_extent = g.get("grow_extent", q.grow_extent);
   g.check(q.min_seeds >= 1, "min_seeds", "must be >= 1");
-  g.check(q.grow_step > 0 && q.grow_band > 0 && q.grow_extent > 0, "grow_step",
-          "grow_step, grow_band and grow_extent must be > 0");
+  g.check(q.grow_step > 0 && q.grow_step <= 100, "grow_step", "must be in (0, 100] m");
+  g.check(q.grow_band > 0 && q.grow_band <= 100, "grow_band", "must be in (0, 100] m");
+  g.check(q.grow_extent > 0 && q.grow_extent <= 100, "grow_extent", "must be in (0, 100] m");
   q.region_dilation_px = g.get("region_dilation_px", q.region_dilation_px);
   g.check(q.region_dilation_px >= 0 && q.region_dilation_px <= 50, "region_dilation_px",
           "must be in [0, 50]");
   q.min_keyframe_age_s = g.get("min_keyframe_age_s", q.min_keyframe_age_s);
-  g.check(q.min_keyframe_age_s >= 0, "min_keyframe_age_s", "must be >= 0");
+  g.check(q.min_keyframe_age_s >= 0 && q.min_keyframe_age_s <= 3600, "min_keyframe_age_s",
+          "must be in [0, 3600] s");
   g.finish();
   r.finish();
   return p;

@@ -4,6 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "lrd/io/image_file.h"
 #include "lrd/util/error.h"
 
 namespace lrd::io {
@@ -39,19 +40,6 @@ std::string type_str(const cv::Mat& m) {
   return m.channels() == 1 ? d : d + " " + std::to_string(m.channels()) + "-channel";
 }
 
-cv::Mat read_image(const std::filesystem::path& path, int flags) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw file_error(path, "image file not found");
-  cv::Mat img;
-  try {
-    img = cv::imread(path.string(), flags);
-  } catch (const cv::Exception&) {
-    throw file_error(path, "cannot decode image (corrupt or unsupported file)");
-  }
-  if (img.empty()) throw file_error(path, "cannot decode image (corrupt or unsupported file)");
-  return img;
-}
-
 }  // namespace
 
 RgbdFrame load_rgbd_frame(const FrameEntry& entry, std::size_t index, double depth_factor) {
@@ -61,9 +49,9 @@ RgbdFrame load_rgbd_frame(const FrameEntry& entry, std::size_t index, double dep
   RgbdFrame frame;
   frame.index = index;
   frame.timestamp = entry.timestamp;
-  frame.rgb = read_image(entry.rgb_path, cv::IMREAD_COLOR);
+  frame.rgb = read_image_file(entry.rgb_path, cv::IMREAD_COLOR);
 
-  const cv::Mat raw = read_image(entry.depth_path, cv::IMREAD_UNCHANGED);
+  const cv::Mat raw = read_image_file(entry.depth_path, cv::IMREAD_UNCHANGED);
   if (raw.type() != CV_16UC1) {
     throw file_error(entry.depth_path, "expected 16-bit depth PNG, got " + type_str(raw));
   }

@@ -161,6 +161,13 @@ TumSequence TumSequence::open(const fs::path& dir, double max_dt) {
   TumSequence seq;
   seq.dir_ = dir;
   const fs::path associations = dir / "associations.txt";
+  // A list that is there but no file (a folder, a dangling link) is a broken sequence, not an
+  // absent list: say so instead of silently reading another.
+  for (const char* list : {"associations.txt", "rgb.txt", "depth.txt", "groundtruth.txt"}) {
+    const fs::path f = dir / list;
+    if ((fs::exists(f, ec) || fs::is_symlink(f, ec)) && !fs::is_regular_file(f, ec))
+      throw file_error(f, "not a readable regular file");
+  }
   if (fs::is_regular_file(associations, ec)) {
     seq.entries_ = read_associations(dir, associations);
   } else {

@@ -25,17 +25,22 @@ LocalMapperParams LocalMapperParams::from_config(config::NodeReader r) {
   p.triangulation_neighbours = r.get("triangulation_neighbours", p.triangulation_neighbours);
   r.check(p.triangulation_neighbours >= 0, "triangulation_neighbours", "must be >= 0");
   p.fuse_neighbours = r.get("fuse_neighbours", p.fuse_neighbours);
+  r.check(p.fuse_neighbours >= 0, "fuse_neighbours", "must be >= 0");
   p.fuse_second_neighbours = r.get("fuse_second_neighbours", p.fuse_second_neighbours);
+  r.check(p.fuse_second_neighbours >= 0, "fuse_second_neighbours", "must be >= 0");
   p.local_ba = r.get("local_ba", p.local_ba);
   p.ba.first_iterations = r.get("ba_first_iterations", p.ba.first_iterations);
   p.ba.second_iterations = r.get("ba_second_iterations", p.ba.second_iterations);
   r.check(p.ba.first_iterations >= 1 && p.ba.second_iterations >= 0, "ba_first_iterations",
           "iterations must be positive");
   p.ba.max_local_keyframes = r.get("ba_max_local_keyframes", p.ba.max_local_keyframes);
+  r.check(p.ba.max_local_keyframes >= 0, "ba_max_local_keyframes",
+          "must be >= 0 (0: every covisible keyframe)");
   p.keyframe_culling = r.get("keyframe_culling", p.keyframe_culling);
   p.redundant_ratio = r.get("redundant_ratio", p.redundant_ratio);
   r.check(p.redundant_ratio > 0.0 && p.redundant_ratio <= 1.0, "redundant_ratio", "must be in (0, 1]");
   p.redundant_observers = r.get("redundant_observers", p.redundant_observers);
+  r.check(p.redundant_observers >= 1, "redundant_observers", "must be >= 1");
   p.max_queued = r.get("max_queued", p.max_queued);
   r.check(p.max_queued >= 1, "max_queued", "must be >= 1");
   r.finish();

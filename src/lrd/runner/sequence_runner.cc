@@ -73,7 +73,8 @@ namespace {
 
 // The frames through the system, as fast as they are tracked (or at the camera's pace).
 // Returns false when interrupted.
-bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o, bool rgb_order,
+bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o, const io::TumSequence& seq,
+                  const camera::PinholeCamera& camera, const std::string& camera_source,
                   std::chrono::steady_clock::time_point wall0) {
   cv::Mat rgb;
   std::optional<double> first_stamp;
@@ -87,8 +88,13 @@ bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o
       std::this_thread::sleep_until(wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                 std::chrono::duration<double>(f->timestamp - *first_stamp)));
     }
+    // The image against the calibration: the error names both files.
+    if (f->rgb.cols != camera.width || f->rgb.rows != camera.height)
+      throw file_error(seq.entry(f->index).rgb_path,
+                       fmt::format("image is {}x{}, the camera ({}) is {}x{}", f->rgb.cols, f->rgb.rows,
+                                   camera_source, camera.width, camera.height));
     // The loader gives BGR; the system expects the camera's colour order.
-    if (rgb_order)
+    if (camera.rgb_order)
       cv::cvtColor(f->rgb, rgb, cv::COLOR_BGR2RGB);
     else
       rgb = f->rgb;
@@ -183,7 +189,7 @@ RunReport run_sequence(const RunOptions& options) {
   report.segmentation = slam.segmentation_description();
 
   // Run.
-  report.interrupted = !track_frames(slam, frames, o, cfg.camera.rgb_order, wall0);
+  report.interrupted = !track_frames(slam, frames, o, seq, cfg.camera, report.camera_source, wall0);
   if (report.interrupted) spdlog::warn("interrupted: finishing the queued work and writing the outputs");
   slam.shutdown();
   // A signal while the queued work finished still counts (its handler promised the outputs).

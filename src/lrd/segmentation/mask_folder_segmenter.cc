@@ -6,6 +6,7 @@
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 
+#include "lrd/io/image_file.h"
 #include "lrd/util/error.h"
 
 namespace lrd::segmentation {
@@ -49,8 +50,7 @@ cv::Mat MaskFolderSegmenter::segment(const cv::Mat& rgb, bool /*rgb_order*/, dou
   if (std::abs(it->first - timestamp) > params_.max_time_difference)
     throw file_error(params_.folder, fmt::format("no mask for the frame at {:.6f} (nearest: {})", timestamp,
                                                  it->second.filename().string()));
-  const cv::Mat raw = cv::imread(it->second.string(), cv::IMREAD_UNCHANGED);
-  if (raw.empty()) throw file_error(it->second, "cannot read this mask image");
+  const cv::Mat raw = io::read_image_file(it->second, cv::IMREAD_UNCHANGED);
   if (raw.type() != CV_8UC1)
     throw file_error(it->second, fmt::format("a mask must be an 8-bit single-channel PNG, got {}",
                                              cv::typeToString(raw.type())));
