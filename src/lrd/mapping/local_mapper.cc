@@ -110,6 +110,11 @@ void LocalMapper::run() {
 
 void LocalMapper::process(map::KeyFrame* kf) {
   util::check_fault_point("local_mapping");
+  {
+    // Removed while it waited in the queue: nothing to map, nothing to hand on.
+    std::lock_guard lock(map_.mutex());
+    if (kf->is_bad()) return;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   process_new_keyframe(kf);
   cull_recent_map_points(kf);
