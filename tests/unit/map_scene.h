@@ -69,18 +69,7 @@ inline int associate(data::Frame& frame, const std::vector<map::MapPoint*>& poin
 // (frame.map_points) stay for local mapping to register, and every keypoint with depth and no
 // match gets a new map point observed by the keyframe alone.
 inline map::KeyFrame* tracking_keyframe(map::Map& map, const data::Frame& frame) {
-  map::KeyFrame* kf = map.create_keyframe(frame);
-  for (std::size_t i = 0; i < frame.size(); ++i) {
-    if (frame.map_points[i] != nullptr) continue;
-    const auto x = frame.unproject_world(i);
-    if (!x) continue;
-    map::MapPoint* mp = map.create_map_point(*x, kf, frame.id());
-    mp->add_observation(kf, i);
-    kf->add_map_point(mp, i);
-    mp->compute_distinctive_descriptor();
-    mp->update_normal_and_depth();
-  }
-  return kf;
+  return keyframe_with_points(map, frame, /*unmatched_only=*/true);
 }
 
 // What local mapping does first with a new keyframe (LocalMapper::process_new_keyframe, without

@@ -180,10 +180,13 @@ class TexturedPlane {
 };
 
 // A keyframe of `frame` with a map point for every keypoint that has depth (as tracking's map
-// initialization does). Returns the keyframe.
-inline map::KeyFrame* keyframe_with_points(map::Map& map, const data::Frame& frame) {
+// initialization does), or with `unmatched_only` for those without a match yet (as a new keyframe
+// of tracking). Returns the keyframe.
+inline map::KeyFrame* keyframe_with_points(map::Map& map, const data::Frame& frame,
+                                           bool unmatched_only = false) {
   map::KeyFrame* kf = map.create_keyframe(frame);
   for (std::size_t i = 0; i < frame.size(); ++i) {
+    if (unmatched_only && frame.map_points[i] != nullptr) continue;
     const auto x = frame.unproject_world(i);
     if (!x) continue;
     map::MapPoint* mp = map.create_map_point(*x, kf, frame.id());

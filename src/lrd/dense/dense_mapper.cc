@@ -1,8 +1,6 @@
 #include "lrd/dense/dense_mapper.h"
 
 #include <spdlog/spdlog.h>
-#include <sys/resource.h>
-#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +10,7 @@
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
 #include "lrd/util/fault_injection.h"
+#include "lrd/util/thread_priority.h"
 
 namespace lrd::dense {
 
@@ -90,7 +89,7 @@ void DenseMapper::shutdown() {
 void DenseMapper::run() {
   // Below tracking's priority: on a busy machine the map waits, the camera does not (Linux
   // per-thread nice value; harmless where it is refused).
-  if (setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19) != 0)
+  if (!util::lower_this_thread_priority())
     spdlog::debug("dense mapping: could not lower the thread priority");
   std::unique_lock lock(queue_mutex_);
   for (;;) {

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "lrd/util/error.h"
+#include "lrd/util/thread_priority.h"
 
 namespace lrd::events {
 
@@ -47,6 +48,9 @@ void EventPublisher::publish(Event event) {
 }
 
 void EventPublisher::run() {
+  // Subscribers work below tracking's priority (as the dense thread): on a busy machine the
+  // deliveries wait, the camera does not.
+  util::lower_this_thread_priority();
   std::unique_lock lock(mutex_);
   for (;;) {
     ready_.wait(lock, [this] { return stop_ || !queue_.empty(); });

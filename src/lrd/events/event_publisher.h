@@ -1,9 +1,9 @@
 #pragma once
 // Delivers the system's events to any number of subscribers without ever stalling tracking:
-// publish() only queues the event; the publisher's own thread hands each event, in order, to
-// every subscriber. Subscribers are registered before the first event. A subscriber that throws
-// stops the delivery; the error is kept (util::ThreadErrors, thread "publisher") and the system
-// rethrows it.
+// publish() only queues the event; the publisher's own thread (at the lowest priority, nice 19)
+// hands each event, in order, to every subscriber. Subscribers are registered before the first event. A
+// subscriber that throws stops the delivery; the error is kept (util::ThreadErrors, thread "publisher") and
+// the system rethrows it.
 //
 // The queue is unbounded by default (the CLI runner needs every frame); with max_queued_frames
 // set, the oldest queued FrameTracked events are dropped past it (a live viewer wants the newest

@@ -77,13 +77,7 @@ void LoopCloser::insert_keyframe(map::KeyFrame* kf) {
 }
 
 void LoopCloser::process_queued() {
-  if (failed_) return;  // lock-step: stopped at an error, which the caller has
-  try {
-    while (const auto kf = queue_.try_pop()) process(*kf);
-  } catch (...) {
-    failed_ = true;
-    throw;
-  }
+  queue_.drain([this](map::KeyFrame* kf) { process(kf); });
 }
 
 void LoopCloser::shutdown() {

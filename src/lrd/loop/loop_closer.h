@@ -103,7 +103,6 @@ class LoopCloser {
   const LoopClosingParams params_;
   const bool threaded_;
   LoopDetector detector_;  // this thread only
-  bool failed_ = false;    // lock-step: process_queued() threw
 
   util::ThreadErrors own_errors_;
   util::ThreadErrors* errors_ = &own_errors_;

@@ -71,13 +71,7 @@ std::size_t LocalMapper::queued() const {
 }
 
 void LocalMapper::process_queued() {
-  if (failed_) return;  // lock-step: stopped at an error, which the caller has
-  try {
-    while (const auto kf = queue_.try_pop()) process(*kf);
-  } catch (...) {
-    failed_ = true;
-    throw;
-  }
+  queue_.drain([this](map::KeyFrame* kf) { process(kf); });
 }
 
 void LocalMapper::shutdown() {

@@ -110,7 +110,6 @@ class LocalMapper {
   map::KeyFrameDatabase* database_ = nullptr;
   KeyFrameCallback keyframe_callback_;
   std::list<map::MapPoint*> recent_points_;  // this thread only
-  bool failed_ = false;                      // lock-step: process_queued() threw
 
   util::ThreadErrors own_errors_;
   util::ThreadErrors* errors_ = &own_errors_;

@@ -1,6 +1,7 @@
 #include "lrd/runner/run_recorder.h"
 
 #include <fmt/format.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <opencv2/imgcodecs.hpp>
@@ -44,7 +45,10 @@ void FlagScorer::on_frame(const events::FrameTracked& e) {
   if (truth.empty() || truth.type() != CV_8UC1 || truth.size() != e.grey.size()) return;
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
-  extractor_.extract(e.grey, cv::Mat(), keypoints, descriptors);
+  // On this (low-priority) thread alone: the extractor's parallel levels would otherwise run on
+  // TBB's shared workers at normal priority, beside tracking's own extraction.
+  static tbb::task_arena single_thread(1);
+  single_thread.execute([&] { extractor_.extract(e.grey, cv::Mat(), keypoints, descriptors); });
   ++score_.frames;
   for (const cv::KeyPoint& kp : keypoints) {
     const int u = std::clamp(cvRound(kp.pt.x), 0, truth.cols - 1);

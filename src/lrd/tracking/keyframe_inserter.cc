@@ -16,6 +16,18 @@
 
 namespace lrd::tracking {
 
+map::MapPoint* add_point_from_depth(map::Map& map, map::KeyFrame* kf, data::Frame& frame, std::size_t i) {
+  const auto x = frame.unproject_world(i);
+  if (!x) return nullptr;
+  map::MapPoint* mp = map.create_map_point(*x, kf, frame.id());
+  mp->add_observation(kf, i);
+  kf->add_map_point(mp, i);
+  mp->compute_distinctive_descriptor();
+  mp->update_normal_and_depth();
+  frame.map_points[i] = mp;
+  return mp;
+}
+
 bool KeyFrameInserter::needed(const data::Frame& frame, const KeyFrameContext& context) const {
   const std::size_t n_kfs = map_.keyframe_count();
   const auto max_frames = static_cast<std::uint64_t>(params_.max_frames_between_keyframes > 0
@@ -74,13 +86,7 @@ map::KeyFrame* KeyFrameInserter::insert(data::Frame& frame) {
   for (const auto& [d, i] : by_depth) {
     map::MapPoint* mp = frame.map_points[i];
     if (mp == nullptr || mp->num_observations() < 1) {
-      const auto x = frame.unproject_world(i);
-      map::MapPoint* created = map_.create_map_point(*x, kf, frame.id());
-      created->add_observation(kf, i);
-      kf->add_map_point(created, i);
-      created->compute_distinctive_descriptor();
-      created->update_normal_and_depth();
-      frame.map_points[i] = created;
+      add_point_from_depth(map_, kf, frame, i);
       frame.outliers[i] = false;
     }
     ++covered;

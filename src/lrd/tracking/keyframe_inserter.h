@@ -2,6 +2,7 @@
 // The keyframe decision (ORB-SLAM2's NeedNewKeyFrame / CreateNewKeyFrame, RGB-D, with our
 // keyframe-coverage rule, docs/slam-core.md): after a frame is tracked, whether it becomes a
 // keyframe, and if so the keyframe with new map points from its depth, handed to local mapping.
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 
@@ -13,12 +14,17 @@ class Frame;
 namespace lrd::map {
 class KeyFrame;
 class Map;
+class MapPoint;
 }  // namespace lrd::map
 namespace lrd::mapping {
 class LocalMapper;
 }
 
 namespace lrd::tracking {
+
+// A new map point at keypoint i's depth, observed by `kf` alone, set as the frame's match (the
+// RGB-D way to make points: map initialization and new keyframes). Null without depth.
+map::MapPoint* add_point_from_depth(map::Map& map, map::KeyFrame* kf, data::Frame& frame, std::size_t i);
 
 // What the decision needs to know about tracking's state.
 struct KeyFrameContext {

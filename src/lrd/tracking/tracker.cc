@@ -191,16 +191,7 @@ map::KeyFrame* Tracker::initialize(data::Frame& frame) {
   std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
   std::fill(frame.outliers.begin(), frame.outliers.end(), false);
   map::KeyFrame* kf = map_.create_keyframe(frame);
-  for (std::size_t i = 0; i < frame.size(); ++i) {
-    const auto x = frame.unproject_world(i);
-    if (!x) continue;
-    map::MapPoint* mp = map_.create_map_point(*x, kf, frame.id());
-    mp->add_observation(kf, i);
-    kf->add_map_point(mp, i);
-    mp->compute_distinctive_descriptor();
-    mp->update_normal_and_depth();
-    frame.map_points[i] = mp;
-  }
+  for (std::size_t i = 0; i < frame.size(); ++i) add_point_from_depth(map_, kf, frame, i);
   mapper_.insert_keyframe(kf);
   keyframes_.inserted_first(frame);
   reference_kf_ = kf;

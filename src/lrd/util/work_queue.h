@@ -41,6 +41,19 @@ class WorkQueue {
     return wait_pop([] {});
   }
 
+  // Lock-step: takes every queued item through `process` in the calling thread. Once `process`
+  // has thrown, does nothing more (the caller has the error; the rest of the queue stays).
+  template <class Process>
+  void drain(Process&& process) {
+    if (drain_failed_) return;
+    try {
+      while (auto item = try_pop()) process(std::move(*item));
+    } catch (...) {
+      drain_failed_ = true;
+      throw;
+    }
+  }
+
   void stop() {
     {
       std::lock_guard lock(mutex_);
@@ -66,6 +79,7 @@ class WorkQueue {
   std::condition_variable cv_;
   std::deque<T> items_;
   bool stopped_ = false;
+  bool drain_failed_ = false;  // the draining thread's only
 };
 
 }  // namespace lrd::util

@@ -1,0 +1,10 @@
+#pragma once
+// Background threads below tracking's priority: on a busy machine the dense map and the event
+// subscribers wait, the camera does not (Linux per-thread nice value).
+namespace lrd::util {
+
+// Sets the calling thread's nice value (19: the lowest priority). False where the system refuses;
+// harmless then, the thread runs at the normal priority.
+bool lower_this_thread_priority(int nice = 19);
+
+}  // namespace lrd::util
