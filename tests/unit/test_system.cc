@@ -9,49 +9,21 @@
 #include "lrd/synth/synthetic_sequence.h"
 #include "lrd/system.h"
 #include "lrd/util/error.h"
+#include "rendered_sequence.h"
 
 namespace {
 
-struct RenderedSequence {
-  lrd::camera::PinholeCamera camera;
-  std::vector<lrd::synth::SynthFrame> frames;
-  lrd::io::Trajectory ground_truth;
-};
-
-// Rendered once for all tests (rendering dominates the test time under sanitizers).
-const RenderedSequence& static_sequence() {
-  static const RenderedSequence seq = [] {
-    lrd::synth::SynthOptions o;
-    o.preset = "static_xyz";
-    o.seed = 1;
-    o.frames = 45;
-    const lrd::synth::SyntheticSequence s(o);
-    RenderedSequence r;
-    r.camera = s.camera();
-    for (int i = 0; i < s.size(); ++i) {
-      r.frames.push_back(s.render(i));
-      r.ground_truth.push_back({r.frames.back().timestamp, r.frames.back().pose});
-    }
-    return r;
-  }();
-  return seq;
-}
-
-lrd::config::Config config_for(const lrd::camera::PinholeCamera& cam) {
-  lrd::config::Config c;
-  c.camera = cam;
-  return c;
-}
+using lrd::test::config_for;
+using lrd::test::RenderedSequence;
+using lrd::test::static_sequence;
 
 lrd::io::Trajectory run(const RenderedSequence& seq, bool deterministic, int* lost = nullptr) {
   lrd::SystemOptions options;
   options.deterministic = deterministic;
   lrd::System slam(config_for(seq.camera), options);
   int n_lost = 0;
-  cv::Mat rgb;
   for (const auto& f : seq.frames) {
-    cv::cvtColor(f.rgb, rgb, cv::COLOR_BGR2RGB);  // the synthetic camera says RGB order
-    const lrd::TrackResult r = slam.track_rgbd(rgb, f.depth, f.timestamp);
+    const lrd::TrackResult r = slam.track_rgbd(f.rgb, f.depth, f.timestamp);
     n_lost += r.state != lrd::TrackingState::Ok;
     EXPECT_EQ(r.T_wc.has_value(), r.state == lrd::TrackingState::Ok);
   }

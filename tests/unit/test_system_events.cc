@@ -12,36 +12,16 @@
 #include "lrd/synth/synthetic_sequence.h"
 #include "lrd/system.h"
 #include "lrd/util/error.h"
+#include "rendered_sequence.h"
 
 namespace {
 
-struct Frames {
-  lrd::camera::PinholeCamera camera;
-  std::vector<lrd::synth::SynthFrame> frames;
-};
-
-const Frames& frames() {
-  static const Frames seq = [] {
-    lrd::synth::SynthOptions o;
-    o.preset = "static_xyz";
-    o.seed = 3;
-    o.frames = 40;
-    const lrd::synth::SyntheticSequence s(o);
-    Frames r;
-    r.camera = s.camera();
-    for (int i = 0; i < s.size(); ++i) {
-      r.frames.push_back(s.render(i));
-      cv::cvtColor(r.frames.back().rgb, r.frames.back().rgb, cv::COLOR_BGR2RGB);  // the camera's order
-    }
-    return r;
-  }();
-  return seq;
+const lrd::test::RenderedSequence& frames() {
+  return lrd::test::static_sequence();
 }
 
 lrd::config::Config config() {
-  lrd::config::Config c;
-  c.camera = frames().camera;
-  return c;
+  return lrd::test::config_for(frames().camera);
 }
 
 struct Watcher : lrd::events::Subscriber {
