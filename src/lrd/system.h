@@ -22,6 +22,7 @@
 #include "lrd/events/map_snapshot.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/loop/loop_closer.h"
+#include "lrd/map/map_memory.h"
 #include "lrd/segmentation/segmentation_params.h"
 #include "lrd/system_params.h"
 #include "lrd/tracking/tracking_state.h"
@@ -101,6 +102,8 @@ class System {
   void save_keyframe_trajectory_tum(const std::filesystem::path& file) const;
 
   [[nodiscard]] MapStats map_stats() const;
+  // Memory the map holds, and what reclamation freed (walks every object: not for every frame).
+  [[nodiscard]] map::MapMemory map_memory() const;
   // Each loop closed so far (frame, keyframes, inliers, correction).
   [[nodiscard]] std::vector<loop::LoopEvent> loops() const;
   [[nodiscard]] bool loop_closing_enabled() const;

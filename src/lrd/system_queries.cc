@@ -11,12 +11,13 @@
 namespace lrd {
 
 io::Trajectory System::trajectory() const {
+  const map::Map& map = impl_->pipe->map;
   std::lock_guard lock(impl_->pipe->map.mutex());
   io::Trajectory out;
   const tracking::FrameRecord* previous = nullptr;
   for (const tracking::FrameRecord& r : impl_->pipe->tracker.records()) {
-    if (r.state != TrackingState::Ok || r.reference == nullptr) continue;
-    out.push_back({r.timestamp, map::resolve_pose(r.reference, r.T_c_ref).inverse()});
+    if (r.state != TrackingState::Ok || !r.reference) continue;
+    out.push_back({r.timestamp, map.resolve_pose(*r.reference, r.T_c_ref).inverse()});
     // Tripwire for a rare divergence seen once in a threaded static-mode run (one frame tens of
     // km off, its neighbours fine; not reproduced in 100 reruns): a camera does not move metres
     // between two consecutive frames (a relocalization after lost frames may, and is not checked).
@@ -27,8 +28,9 @@ io::Trajectory System::trajectory() const {
         spdlog::warn(
             "trajectory: frame {} is {:.3g} m from frame {} ({:.3f} s before); reference keyframe {}{}, "
             "{:.3g} m from it, {} inliers - a tracking or map error, please report it with this log",
-            r.frame_id, jump, previous->frame_id, r.timestamp - previous->timestamp, r.reference->id(),
-            r.reference->is_bad() ? " (culled)" : "", r.T_c_ref.translation().norm(), r.inliers);
+            r.frame_id, jump, previous->frame_id, r.timestamp - previous->timestamp, *r.reference,
+            map.keyframe(*r.reference) == nullptr ? " (culled)" : "", r.T_c_ref.translation().norm(),
+            r.inliers);
     }
     previous = &r;
   }
@@ -70,6 +72,11 @@ MapStats System::map_stats() const {
     m.relocalizations = impl_->pipe->tracker.relocalizations();
   }
   return m;
+}
+
+map::MapMemory System::map_memory() const {
+  std::lock_guard lock(impl_->pipe->map.mutex());
+  return impl_->pipe->map.memory();
 }
 
 std::vector<loop::LoopEvent> System::loops() const {

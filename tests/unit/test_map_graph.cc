@@ -177,7 +177,8 @@ TEST(KeyFrameGraph, RemovalReattachesChildrenAndKeepsThePoseRelativeToTheParent)
   kf1->set_bad();
   EXPECT_TRUE(kf1->is_bad());
   EXPECT_EQ(g.map.keyframes(), (std::vector<KeyFrame*>{kf0, kf2, kf3, kf4}));
-  EXPECT_EQ(g.map.keyframe_by_creation(1), kf1);
+  EXPECT_EQ(g.map.keyframe(1), nullptr);
+  EXPECT_EQ(g.map.keyframe(2), kf2);
   // Children: kf2 goes under kf0 (its strongest edge to an attached keyframe), then kf3 under kf2
   // (kf3 sees kf2 only); kf4 has no edge to any attached keyframe and falls back to kf1's parent.
   EXPECT_EQ(kf2->parent(), kf0);
@@ -216,11 +217,21 @@ TEST(KeyFrameGraph, RemovalReattachesChildrenAndKeepsThePoseRelativeToTheParent)
   EXPECT_EQ(kf2->parent(), kf0);
   EXPECT_TRUE(resolve(kf3).isApprox(T3, 1e-12));
   EXPECT_TRUE(resolve(kf2).isApprox(T2, 1e-12));
-  // ... and follows a correction of the live ancestor rigidly.
+  // The map's links give the same poses by id, bit for bit (they are what outlives the objects).
+  for (KeyFrame* kf : {kf1, kf2, kf3})
+    EXPECT_TRUE(g.map.resolve_pose(kf->id()).matrix() == resolve(kf).matrix());
+  EXPECT_EQ(g.map.nearest_active_keyframe(kf3->id()), kf0);
+  // ... and follows a correction of the live ancestor rigidly, after the removed keyframes are
+  // freed (a participant that declares lets them go).
   const Eigen::Isometry3d T0 = kf0->T_cw();
   const Eigen::Isometry3d moved = lrd::test::pose(0.1, -0.2, 0.05, 0.3, 0.2, -0.1);
   kf0->set_pose(moved);
-  EXPECT_TRUE((resolve(kf3) * moved.inverse()).isApprox(T3 * T0.inverse(), 1e-9));
+  const std::uint64_t id3 = kf3->id();
+  lrd::map::ReclamationMembership member(g.map.reclamation(), "test");
+  member.quiescent();
+  EXPECT_EQ(g.map.memory().reclamation.freed_keyframes, 3u);
+  EXPECT_EQ(g.map.memory().reclamation.waiting_keyframes, 0u);
+  EXPECT_TRUE((g.map.resolve_pose(id3) * moved.inverse()).isApprox(T3 * T0.inverse(), 1e-9));
 }
 
 TEST(KeyFrameGraph, KeyFrameZeroAndProtectedKeyFramesAreNotRemoved) {
@@ -405,10 +416,10 @@ TEST(Map, IdsOrderAndLifetime) {
   EXPECT_EQ(g.map.map_point_count(), 4u);
   EXPECT_EQ(g.map.map_points(), (std::vector<MapPoint*>{pts[0], pts[1], pts[3], pts[4]}));
   EXPECT_EQ(g.map.create_map_point(Eigen::Vector3d::Zero(), kf0, 0)->id(), 5u);
-  g.map.clear();
-  EXPECT_EQ(g.map.keyframe_count(), 0u);
-  EXPECT_EQ(g.map.map_point_count(), 0u);
-  EXPECT_EQ(g.map.first_keyframe(), nullptr);
-  EXPECT_EQ(g.map.keyframe_by_creation(2), kf2);  // still allocated
-  EXPECT_EQ(pts[0]->num_observations(), 6);
+  // Removed objects stay allocated until a participant declares: without one, never.
+  EXPECT_TRUE(pts[2]->is_bad());
+  EXPECT_EQ(g.map.memory().reclamation.waiting_map_points, 1u);
+  EXPECT_EQ(g.map.memory().reclamation.freed_map_points, 0u);
+  EXPECT_EQ(g.map.keyframe(1), kf1);
+  EXPECT_EQ(g.map.keyframe(7), nullptr);
 }

@@ -57,6 +57,30 @@ TEST(System, DeterministicModeGivesBitIdenticalTrajectories) {
   EXPECT_LT(ate.stats.rmse, 0.01);
 }
 
+TEST(System, FreesCulledMapPointsWhileItRuns) {
+  // Points that fail local mapping's culling are removed within a few keyframes; the map frees
+  // them once tracking and mapping have let go (map/reclamation.h), not at the end of the run.
+  const auto& seq = static_sequence();
+  lrd::SystemOptions options;
+  options.deterministic = true;
+  lrd::System slam(config_for(seq.camera), options);
+  for (const auto& f : seq.frames) slam.track_rgbd(f.rgb, f.depth, f.timestamp);
+  const lrd::map::MapMemory m = slam.map_memory();
+  const lrd::MapStats stats = slam.map_stats();
+  EXPECT_EQ(m.keyframes, stats.keyframes);
+  EXPECT_EQ(m.map_points, stats.map_points);
+  EXPECT_GT(m.reclamation.freed_map_points, 0u);
+  // What still waits is what was removed since the last keyframe local mapping took.
+  EXPECT_LT(m.reclamation.waiting_map_points, m.reclamation.freed_map_points);
+  ASSERT_GT(m.keyframes, 0u);
+  ASSERT_GT(m.map_points, 0u);
+  // A keyframe keeps its features, not its images (a 640x480 mask alone is 300 KB).
+  EXPECT_LT(m.keyframe_bytes / m.keyframes, 300'000u);
+  EXPECT_GT(m.keyframe_bytes / m.keyframes, 50'000u);  // ~1000 keypoints with descriptors
+  EXPECT_LT(m.map_point_bytes / m.map_points, 2'000u);
+  slam.shutdown();
+}
+
 TEST(System, RejectsBadImagesWithClearErrors) {
   const auto& seq = static_sequence();
   lrd::System slam(config_for(seq.camera));

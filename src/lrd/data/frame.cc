@@ -93,13 +93,24 @@ void Frame::remove_keypoints(const std::vector<bool>& drop) {
 }
 
 void Frame::build_grid() {
+  // Compressed rows (a counting sort): cell k's keypoints are grid_index_[grid_start_[k] ..
+  // grid_start_[k + 1]), in keypoint order. A vector per cell would cost 74 KB of empty vector
+  // headers in every keyframe the map keeps.
   const std::size_t n = keypoints_.size();
-  grid_.assign(static_cast<std::size_t>(kGridCols * kGridRows), {});
+  constexpr auto kCells = static_cast<std::size_t>(kGridCols * kGridRows);
+  std::vector<std::uint32_t> cell_of(n, UINT32_MAX);
+  grid_start_.assign(kCells + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
     int c, r;
-    if (grid_cell(undistorted_[i].pt, c, r))
-      grid_[static_cast<std::size_t>(r * kGridCols + c)].push_back(static_cast<std::uint32_t>(i));
+    if (!grid_cell(undistorted_[i].pt, c, r)) continue;
+    cell_of[i] = static_cast<std::uint32_t>(r * kGridCols + c);
+    ++grid_start_[cell_of[i] + 1];
   }
+  for (std::size_t k = 0; k < kCells; ++k) grid_start_[k + 1] += grid_start_[k];
+  grid_index_.assign(grid_start_[kCells], 0);
+  std::vector<std::uint32_t> next(grid_start_.begin(), grid_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i)
+    if (cell_of[i] != UINT32_MAX) grid_index_[next[cell_of[i]]++] = static_cast<std::uint32_t>(i);
 }
 
 bool Frame::grid_cell(const cv::Point2f& p, int& col, int& row) const {
@@ -119,7 +130,9 @@ std::vector<std::size_t> Frame::features_in_area(float x, float y, float radius,
       std::min(kGridRows - 1, static_cast<int>(std::floor((y + radius - bounds_.y) * cell_h_inv_)));
   for (int r = r0; r <= r1; ++r) {
     for (int c = c0; c <= c1; ++c) {
-      for (const std::uint32_t i : grid_[static_cast<std::size_t>(r * kGridCols + c)]) {
+      const auto cell = static_cast<std::size_t>(r * kGridCols + c);
+      for (std::uint32_t k = grid_start_[cell]; k < grid_start_[cell + 1]; ++k) {
+        const std::uint32_t i = grid_index_[k];
         const cv::KeyPoint& kp = undistorted_[i];
         if ((min_level >= 0 && kp.octave < min_level) || (max_level >= 0 && kp.octave > max_level)) continue;
         if (std::abs(kp.pt.x - x) <= radius && std::abs(kp.pt.y - y) <= radius) out.push_back(i);
@@ -134,6 +147,32 @@ std::optional<Eigen::Vector3d> Frame::unproject_world(std::size_t i) const {
   if (!T_cw_ || depth_[i] <= 0.0f) return std::nullopt;
   const cv::Point2f& p = undistorted_[i].pt;
   return T_cw_->inverse() * camera_.unproject(p.x, p.y, depth_[i]);
+}
+
+namespace {
+template <class T>
+std::size_t vector_bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+std::size_t mat_bytes(const cv::Mat& m) {
+  return m.empty() ? 0 : m.total() * m.elemSize();
+}
+// A node of std::map: the value, three links and the colour, rounded as the allocator does.
+template <class Map>
+std::size_t map_bytes(const Map& m) {
+  return m.size() * (sizeof(typename Map::value_type) + 4 * sizeof(void*));
+}
+}  // namespace
+
+std::size_t Frame::memory_bytes() const {
+  std::size_t bytes = vector_bytes(keypoints_) + vector_bytes(undistorted_) + mat_bytes(descriptors_) +
+                      vector_bytes(depth_) + vector_bytes(u_right_) + vector_bytes(level_sigma2_) +
+                      vector_bytes(inv_level_sigma2_) + vector_bytes(scale_factors_) +
+                      vector_bytes(grid_start_) + vector_bytes(grid_index_) + vector_bytes(map_points) +
+                      outliers.capacity() / 8 + mat_bytes(dynamic_mask) + vector_bytes(removed_keypoints) +
+                      map_bytes(bow) + map_bytes(bow_features);
+  for (const auto& [node, indices] : bow_features) bytes += vector_bytes(indices);
+  return bytes;
 }
 
 }  // namespace lrd::data

@@ -101,6 +101,8 @@ class Frame {
   [[nodiscard]] Eigen::Isometry3d T_wc() const { return T_cw_->inverse(); }
   // World point of keypoint i from its depth; empty without depth or pose.
   [[nodiscard]] std::optional<Eigen::Vector3d> unproject_world(std::size_t i) const;
+  // Heap bytes this frame holds (its features, grid, bag of words, images), for memory figures.
+  [[nodiscard]] std::size_t memory_bytes() const;
 
  private:
   [[nodiscard]] bool grid_cell(const cv::Point2f& p, int& col, int& row) const;
@@ -116,7 +118,8 @@ class Frame {
   std::vector<float> level_sigma2_, inv_level_sigma2_, scale_factors_;
   cv::Rect2f bounds_;
   float cell_w_inv_, cell_h_inv_;
-  std::vector<std::vector<std::uint32_t>> grid_;  // kGridCols * kGridRows cells, row-major
+  // kGridCols * kGridRows cells, row-major: cell k holds grid_index_[grid_start_[k], grid_start_[k+1]).
+  std::vector<std::uint32_t> grid_start_, grid_index_;
   std::optional<Eigen::Isometry3d> T_cw_;
 };
 

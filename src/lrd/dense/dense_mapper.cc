@@ -41,7 +41,8 @@ void DenseMapper::add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat dep
   {
     std::lock_guard lock(queue_mutex_);
     if (error_) return;  // the thread stopped at an error; shutdown() reports it
-    queue_.push_back({kf, RgbdView{std::move(bgr), std::move(depth), std::move(dynamic), {}}, {}});
+    queue_.push_back(
+        {kf->id(), kf->timestamp(), RgbdView{std::move(bgr), std::move(depth), std::move(dynamic), {}}, {}});
   }
   wake_.notify_one();
 }
@@ -120,8 +121,8 @@ void DenseMapper::process(Pending p) {
   // Current poses of this keyframe and of the repair sources (local BA may have moved them since).
   {
     std::lock_guard lock(map_.mutex());
-    p.view.T_cw = map::resolve_pose(p.kf);
-    for (Pending& r : recent_) r.coarse.T_cw = r.view.T_cw = map::resolve_pose(r.kf);
+    p.view.T_cw = map_.resolve_pose(p.keyframe_id);
+    for (Pending& r : recent_) r.coarse.T_cw = r.view.T_cw = map_.resolve_pose(r.keyframe_id);
   }
   // Pixels that stay out of the keyframe's cloud. Never assigned an expression while sharing the
   // mask's buffer: OpenCV would evaluate it into that buffer and change the stored mask.
@@ -135,7 +136,7 @@ void DenseMapper::process(Pending p) {
         recent_.size() - std::min<std::size_t>(recent_.size(), params_.repair.keyframes);
     for (std::size_t k = first; k < recent_.size(); ++k) sources.push_back(&recent_[k].view);
     const RepairResult& rep = repair.emplace(repairer_.repair(p.view, sources));
-    if (on_repair_) on_repair_(p.kf->timestamp(), p.view, rep);
+    if (on_repair_) on_repair_(p.timestamp, p.view, rep);
     repaired_view.bgr = rep.bgr;
     repaired_view.depth = rep.depth;
     exclude = cv::Mat();
@@ -173,10 +174,10 @@ void DenseMapper::process(Pending p) {
   std::size_t keyframes = 0;
   {
     std::lock_guard lock(mutex_);
-    stored_.push_back({p.kf, std::move(local), std::move(votes)});
+    stored_.push_back({p.keyframe_id, std::move(local), std::move(votes)});
     keyframes = stored_.size();
   }
-  if (on_update_) on_update_(p.kf->timestamp(), keyframes, p.view, repair ? &*repair : nullptr);
+  if (on_update_) on_update_(p.timestamp, keyframes, p.view, repair ? &*repair : nullptr);
   // The sources are the original images (a repaired pixel is another keyframe's, not a new view).
   recent_.push_back(std::move(p));
   const auto keep =
@@ -218,7 +219,8 @@ PointCloud DenseMapper::cloud() const {
   std::vector<Eigen::Isometry3d> T_wc(parts.size());
   {
     std::lock_guard map_lock(map_.mutex());
-    for (std::size_t i = 0; i < parts.size(); ++i) T_wc[i] = map::resolve_pose(parts[i]->kf).inverse();
+    for (std::size_t i = 0; i < parts.size(); ++i)
+      T_wc[i] = map_.resolve_pose(parts[i]->keyframe_id).inverse();
   }
   VoxelGrid grid(params_.voxel_size);
   std::size_t total = 0;

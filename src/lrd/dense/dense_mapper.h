@@ -73,13 +73,15 @@ class DenseMapper {
   [[nodiscard]] RepairTotals repair_totals() const;
 
  private:
+  // Keyframes by id: they may be culled and freed meanwhile (the map still resolves their poses).
   struct Pending {
-    const map::KeyFrame* kf;
+    std::uint64_t keyframe_id;
+    double timestamp;
     RgbdView view;
     RgbdView coarse;  // for the free-space check (free_space_check.h), made when processed
   };
   struct Stored {
-    const map::KeyFrame* kf;
+    std::uint64_t keyframe_id;
     PointCloud local;                 // camera frame
     std::vector<std::uint8_t> votes;  // per point: keyframes that saw through it
   };

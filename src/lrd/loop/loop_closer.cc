@@ -59,7 +59,8 @@ LoopCloser::LoopCloser(map::Map& map, map::KeyFrameDatabase& database, mapping::
       mapper_(mapper),
       params_(std::move(params)),
       threaded_(threaded),
-      detector_(database, params_.detector) {
+      detector_(database, params_.detector),
+      reclamation_(map.reclamation(), "loop closing") {
   if (threaded_) thread_ = std::thread([this] { run(); });
 }
 
@@ -73,11 +74,11 @@ LoopCloser::~LoopCloser() {
 }
 
 void LoopCloser::insert_keyframe(map::KeyFrame* kf) {
-  queue_.push(kf);
+  queue_.push(kf->id());
 }
 
 void LoopCloser::process_queued() {
-  queue_.drain([this](map::KeyFrame* kf) { process(kf); });
+  queue_.drain([this](std::uint64_t id) { process(id); });
 }
 
 void LoopCloser::shutdown() {
@@ -99,19 +100,22 @@ LoopCloserStats LoopCloser::stats() const {
 
 void LoopCloser::run() {
   try {
-    while (const auto kf = queue_.wait_pop()) process(*kf);
+    while (const auto id = queue_.wait_pop()) process(*id);
   } catch (...) {
     errors_->capture("loop closing");
   }
 }
 
-void LoopCloser::process(map::KeyFrame* kf) {
+void LoopCloser::process(std::uint64_t keyframe_id) {
   util::check_fault_point("loop_closing");
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<LoopEvent> event;
   {
     std::lock_guard lock(map_.mutex());
-    if (kf->is_bad()) return;
+    // Between two keyframes this thread keeps no map pointers (the detector keeps ids).
+    reclamation_.quiescent();
+    map::KeyFrame* kf = map_.keyframe(keyframe_id);
+    if (kf == nullptr) return;
     // Protected from culling while it is examined (ORB-SLAM2's SetNotErase).
     kf->set_not_erase(true);
     try {
@@ -309,6 +313,8 @@ void LoopCloser::stop_global_ba() {
 }
 
 void LoopCloser::run_global_ba(std::uint64_t run) {
+  // Keeps keyframe and map-point pointers while it solves without the map mutex.
+  const map::ReclamationMembership member(map_.reclamation(), "global BA");
   util::check_fault_point("global_ba");
   const auto t0 = std::chrono::steady_clock::now();
   optim::GlobalBundleAdjustmentParams gp;

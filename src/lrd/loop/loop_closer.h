@@ -22,6 +22,7 @@
 
 #include "lrd/config/node_reader.h"
 #include "lrd/loop/loop_detector.h"
+#include "lrd/map/reclamation.h"
 #include "lrd/util/thread_errors.h"
 #include "lrd/util/work_queue.h"
 
@@ -91,7 +92,7 @@ class LoopCloser {
 
  private:
   void run();
-  void process(map::KeyFrame* kf);
+  void process(std::uint64_t keyframe_id);
   LoopEvent correct_loop(const LoopDetection& loop);
   void run_global_ba(std::uint64_t run);
   void start_global_ba(std::uint64_t run);
@@ -107,7 +108,8 @@ class LoopCloser {
   util::ThreadErrors own_errors_;
   util::ThreadErrors* errors_ = &own_errors_;
   LoopCallback loop_callback_;
-  util::WorkQueue<map::KeyFrame*> queue_;
+  util::WorkQueue<std::uint64_t> queue_;  // keyframe ids: one may be removed while queued
+  map::ReclamationMembership reclamation_;
 
   mutable std::mutex stats_mutex_;
   LoopCloserStats stats_;

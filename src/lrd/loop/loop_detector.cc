@@ -52,12 +52,12 @@ std::vector<map::KeyFrame*> LoopDetector::consistent_candidates(
   std::vector<bool> previous_extended(groups_.size(), false);
   for (map::KeyFrame* candidate : candidates) {
     ConsistentGroup group;
-    group.keyframes.insert(candidate);
-    for (map::KeyFrame* n : candidate->ordered_covisibles()) group.keyframes.insert(n);
+    group.keyframes.insert(candidate->id());
+    for (map::KeyFrame* n : candidate->ordered_covisibles()) group.keyframes.insert(n->id());
     bool consistent_for_some = false, enough_for_candidate = false;
     for (std::size_t g = 0; g < groups_.size(); ++g) {
       const bool shares = std::any_of(group.keyframes.begin(), group.keyframes.end(),
-                                      [&](map::KeyFrame* k) { return groups_[g].keyframes.count(k) != 0; });
+                                      [&](std::uint64_t k) { return groups_[g].keyframes.count(k) != 0; });
       if (!shares) continue;
       consistent_for_some = true;
       const int consistency = groups_[g].consistency + 1;

@@ -53,7 +53,7 @@ class LoopDetector {
 
  private:
   struct ConsistentGroup {
-    std::set<map::KeyFrame*, map::ById> keyframes;
+    std::set<std::uint64_t> keyframes;  // ids: a keyframe may be removed and freed meanwhile
     int consistency = 0;
   };
   std::vector<map::KeyFrame*> consistent_candidates(const std::vector<map::KeyFrame*>& candidates);

@@ -13,16 +13,36 @@ constexpr int kCovisibilityThreshold = 15;  // ORB-SLAM2: an edge needs 15 share
 
 KeyFrame::KeyFrame(std::uint64_t id, const data::Frame& frame, Map* map)
     : id_(id), frame_(frame), T_cw_(frame.T_cw()), points_(frame.map_points), map_(map) {
+  // A point already removed would never clear its slot here (it does not observe this keyframe).
   for (std::size_t i = 0; i < points_.size(); ++i)
-    if (frame.outliers[i]) points_[i] = nullptr;
+    if (frame.outliers[i] || (points_[i] != nullptr && points_[i]->is_bad())) points_[i] = nullptr;
   // Matches the last pose optimization called outliers stay (as ORB-SLAM2): local BA, with more
   // views, decides on them. The keyframe's own copy of the frame does not track anything.
   frame_.map_points.clear();
   frame_.outliers.clear();
+  // The dynamic mask (a full image) and the removed keypoints serve viewers and the dense map,
+  // which get their own copies: a keyframe holding them would keep ~300 KB per keyframe alive.
+  frame_.map_points.shrink_to_fit();
+  frame_.outliers.shrink_to_fit();
+  frame_.dynamic_mask.release();
+  frame_.removed_keypoints = {};
+}
+
+std::size_t KeyFrame::memory_bytes() const {
+  constexpr std::size_t kNode = 4 * sizeof(void*);  // a std::map / std::set node's links
+  return sizeof(KeyFrame) + frame_.memory_bytes() + points_.capacity() * sizeof(MapPoint*) +
+         connections_.size() * (sizeof(std::pair<KeyFrame* const, int>) + kNode) +
+         ordered_neighbours_.capacity() * sizeof(KeyFrame*) + ordered_weights_.capacity() * sizeof(int) +
+         (children_.size() + loop_edges_.size()) * (sizeof(KeyFrame*) + kNode);
 }
 
 void KeyFrame::erase_map_point(MapPoint* mp) {
   if (const auto idx = mp->index_in(this)) points_[*idx] = nullptr;
+}
+
+void KeyFrame::forget_map_point(const MapPoint* mp) {
+  for (MapPoint*& slot : points_)
+    if (slot == mp) slot = nullptr;
 }
 
 int KeyFrame::tracked_map_points(int min_observations) const {
@@ -150,7 +170,10 @@ std::vector<KeyFrame*> KeyFrame::essential_neighbours(int min_weight) const {
 void KeyFrame::set_bad() {
   if (id_ == 0 || bad_ || not_erase_) return;
   for (const auto& [kf, w] : connections_) kf->erase_connection(this);
-  for (MapPoint* mp : points_)
+  // Its points will no longer list it: they could be freed while these slots still named them.
+  std::vector<MapPoint*> points(points_.size(), nullptr);
+  points.swap(points_);
+  for (MapPoint* mp : points)
     if (mp != nullptr) mp->erase_observation(this);
   connections_.clear();
   ordered_neighbours_.clear();
@@ -192,14 +215,6 @@ void KeyFrame::set_bad() {
   }
   bad_ = true;
   map_->erase_keyframe(this);
-}
-
-Eigen::Isometry3d resolve_pose(const KeyFrame* kf, Eigen::Isometry3d T_c_kf) {
-  while (kf->is_bad() && kf->parent() != nullptr) {
-    T_c_kf = T_c_kf * kf->T_c_parent();
-    kf = kf->parent();
-  }
-  return T_c_kf * kf->T_cw();
 }
 
 }  // namespace lrd::map

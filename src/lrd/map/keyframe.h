@@ -30,7 +30,7 @@ class KeyFrame {
   [[nodiscard]] std::uint64_t id() const { return id_; }
   [[nodiscard]] std::uint64_t frame_id() const { return frame_.id(); }
   [[nodiscard]] double timestamp() const { return frame_.timestamp(); }
-  // Keypoints, descriptors, depths, grid search.
+  // Keypoints, descriptors, depths, grid search (the frame's images are not kept).
   [[nodiscard]] const data::Frame& features() const { return frame_; }
   [[nodiscard]] std::size_t size() const { return frame_.size(); }
 
@@ -50,6 +50,8 @@ class KeyFrame {
   void add_map_point(MapPoint* mp, std::size_t i) { points_[i] = mp; }
   void erase_map_point(std::size_t i) { points_[i] = nullptr; }
   void erase_map_point(MapPoint* mp);
+  // Clears every slot holding `mp`, whether or not mp lists this keyframe among its observations.
+  void forget_map_point(const MapPoint* mp);
   // Good map points with at least `min_observations` (weighted) observations.
   [[nodiscard]] int tracked_map_points(int min_observations) const;
   // Depth of the q-quantile of the scene in front of the camera (q = 0.5: median).
@@ -93,8 +95,11 @@ class KeyFrame {
   // follow map corrections. Keyframe 0 (the map origin) is never removed.
   void set_bad();
   [[nodiscard]] bool is_bad() const { return bad_; }
-  // Parent-relative pose T_c,parent recorded when the keyframe went bad.
+  // Parent-relative pose T_c,parent recorded when the keyframe went bad (the map keeps it after the
+  // keyframe is freed: Map::resolve_pose()).
   [[nodiscard]] const Eigen::Isometry3d& T_c_parent() const { return T_c_parent_; }
+  // Heap and object bytes of this keyframe, for memory figures.
+  [[nodiscard]] std::size_t memory_bytes() const;
   // Loop closing can protect a keyframe from culling while it works on it.
   void set_not_erase(bool v) { not_erase_ = v; }
 
@@ -130,11 +135,5 @@ class KeyFrame {
   Eigen::Isometry3d T_c_parent_ = Eigen::Isometry3d::Identity();
   Map* map_;
 };
-
-// Current world-to-camera pose of a camera recorded as T_c_kf relative to `kf`, following the
-// spanning tree past keyframes removed since (their parent-relative poses were kept). With the
-// default T_c_kf, the keyframe's own current pose. Call under Map::mutex().
-[[nodiscard]] Eigen::Isometry3d resolve_pose(const KeyFrame* kf,
-                                             Eigen::Isometry3d T_c_kf = Eigen::Isometry3d::Identity());
 
 }  // namespace lrd::map

@@ -18,14 +18,22 @@ constexpr std::size_t kGroupSize = 10;     // a group: the keyframe and its 10 b
 void KeyFrameDatabase::add(map::KeyFrame* kf) {
   for (const auto& [word, weight] : kf->bow()) {
     if (word >= inverted_.size()) inverted_.resize(word + 1);
-    auto& list = inverted_[word];
-    // Keyframes removed since they were indexed leave the lists as they grow.
-    if (!list.empty() && list.size() % 64 == 0)
-      list.erase(std::remove_if(list.begin(), list.end(), [](map::KeyFrame* k) { return k->is_bad(); }),
-                 list.end());
-    list.push_back(kf);
+    inverted_[word].push_back(kf);
   }
   ++keyframe_count_;
+}
+
+void KeyFrameDatabase::erase(map::KeyFrame* kf) {
+  bool found = false;
+  for (const auto& [word, weight] : kf->bow()) {
+    if (word >= inverted_.size()) continue;
+    auto& list = inverted_[word];
+    const auto it = std::find(list.begin(), list.end(), kf);
+    if (it == list.end()) continue;
+    list.erase(it);
+    found = true;
+  }
+  if (found) --keyframe_count_;
 }
 
 void KeyFrameDatabase::clear() {

@@ -7,8 +7,9 @@
 // covisible neighbours, so one lucky view does not beat a place seen consistently, and the best
 // keyframe of each strong group is returned.
 //
-// Call under Map::mutex(): keyframes' covisibility and bad flags are read. Bad keyframes are
-// skipped when found (they stay allocated) and dropped from the index on the next add().
+// Call under Map::mutex(): keyframes' covisibility and bad flags are read. A keyframe removed
+// from the map must be erased here before it can be freed (local mapping, which indexes
+// keyframes, erases those it culls).
 #include <cstdint>
 #include <vector>
 
@@ -25,6 +26,8 @@ class KeyFrameDatabase {
  public:
   // Indexes a keyframe (its BoW must be computed).
   void add(map::KeyFrame* kf);
+  // Drops a keyframe (removed from the map) from the index.
+  void erase(map::KeyFrame* kf);
   void clear();
   [[nodiscard]] std::size_t size() const { return keyframe_count_; }
 

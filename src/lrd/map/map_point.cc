@@ -127,4 +127,10 @@ int MapPoint::predict_scale(float distance, float log_scale_factor, int levels) 
   return std::clamp(level, 0, levels - 1);
 }
 
+std::size_t MapPoint::memory_bytes() const {
+  constexpr std::size_t kNode = 4 * sizeof(void*);  // a std::map node's links
+  const std::size_t descriptor = descriptor_.empty() ? 0 : descriptor_.total() + sizeof(cv::UMatData);
+  return sizeof(MapPoint) + descriptor + observations_.size() * (sizeof(Observations::value_type) + kNode);
+}
+
 }  // namespace lrd::map

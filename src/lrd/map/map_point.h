@@ -71,6 +71,8 @@ class MapPoint {
   [[nodiscard]] float max_distance_invariance() const { return 1.2f * max_distance_; }
   // Pyramid level at which a point at `distance` is expected to be detected.
   [[nodiscard]] int predict_scale(float distance, float log_scale_factor, int levels) const;
+  // Heap and object bytes of this point, for memory figures.
+  [[nodiscard]] std::size_t memory_bytes() const;
 
   // Scratch state of tracking's local-map search (valid for the frame `last_frame_seen` etc.).
   struct TrackState {

@@ -48,7 +48,11 @@ LocalMapperParams LocalMapperParams::from_config(config::NodeReader r) {
 }
 
 LocalMapper::LocalMapper(map::Map& map, LocalMapperParams params, bool threaded)
-    : map_(map), params_(params), threaded_(threaded), matcher_(match::MatcherParams{0.6f, false}) {
+    : map_(map),
+      params_(params),
+      threaded_(threaded),
+      matcher_(match::MatcherParams{0.6f, false}),
+      reclamation_(map.reclamation(), "local mapping") {
   if (threaded_) thread_ = std::thread([this] { run(); });
 }
 
@@ -62,7 +66,7 @@ LocalMapper::~LocalMapper() {
 }
 
 void LocalMapper::insert_keyframe(map::KeyFrame* kf) {
-  queue_.push(kf);
+  queue_.push(kf->id());
   abort_ba_.store(true);
 }
 
@@ -71,7 +75,7 @@ std::size_t LocalMapper::queued() const {
 }
 
 void LocalMapper::process_queued() {
-  queue_.drain([this](map::KeyFrame* kf) { process(kf); });
+  queue_.drain([this](std::uint64_t id) { process(id); });
 }
 
 void LocalMapper::shutdown() {
@@ -92,8 +96,8 @@ LocalMapperStats LocalMapper::stats() const {
 void LocalMapper::run() {
   // Busy from the moment a keyframe leaves the queue (tracking asks before proposing another).
   try {
-    while (const auto kf = queue_.wait_pop([this] { accepting_.store(false); })) {
-      process(*kf);
+    while (const auto id = queue_.wait_pop([this] { accepting_.store(false); })) {
+      process(*id);
       accepting_.store(true);
     }
   } catch (...) {
@@ -102,12 +106,17 @@ void LocalMapper::run() {
   }
 }
 
-void LocalMapper::process(map::KeyFrame* kf) {
+void LocalMapper::process(std::uint64_t keyframe_id) {
   util::check_fault_point("local_mapping");
+  map::KeyFrame* kf = nullptr;
   {
-    // Removed while it waited in the queue: nothing to map, nothing to hand on.
     std::lock_guard lock(map_.mutex());
-    if (kf->is_bad()) return;
+    // Between two keyframes this thread keeps only its recent points.
+    recent_points_.remove_if([](const map::MapPoint* mp) { return mp->is_bad(); });
+    reclamation_.quiescent();
+    // Removed while it waited in the queue: nothing to map, nothing to hand on.
+    kf = map_.keyframe(keyframe_id);
+    if (kf == nullptr) return;
   }
   const auto t0 = std::chrono::steady_clock::now();
   process_new_keyframe(kf);
@@ -142,15 +151,25 @@ void LocalMapper::process_new_keyframe(map::KeyFrame* kf) {
     kf->compute_bow(*vocabulary_);
     database_->add(kf);
   }
+  map_.keyframe_mapped(kf);
   const auto& points = kf->map_points();
   for (std::size_t i = 0; i < points.size(); ++i) {
     map::MapPoint* mp = points[i];
-    if (mp == nullptr || mp->is_bad()) continue;
-    if (!mp->is_in_keyframe(kf)) {
+    if (mp == nullptr) continue;
+    if (mp->is_bad()) {  // the slot would outlive the point
+      kf->erase_map_point(i);
+      continue;
+    }
+    const auto observed_at = mp->index_in(kf);
+    if (!observed_at) {
       // Matched by tracking: the keyframe becomes one more observation.
       mp->add_observation(kf, i);
       mp->update_normal_and_depth();
       mp->compute_distinctive_descriptor();
+    } else if (*observed_at != i) {
+      // Tracking matched the point to two keypoints: one observation, one slot (a second slot
+      // would not be cleared when the point goes).
+      kf->erase_map_point(i);
     } else {
       // Created by tracking from this keyframe's depth: watch it in its first keyframes.
       recent_points_.push_back(mp);
@@ -333,6 +352,8 @@ void LocalMapper::cull_keyframes(map::KeyFrame* kf) {
     }
     if (n_points > 0 && redundant > params_.redundant_ratio * n_points) {
       k2->set_bad();
+      // Indexed here, so dropped from the index here: it may be freed once every thread let go.
+      if (k2->is_bad() && database_ != nullptr) database_->erase(k2);
       ++culled;
     }
   }

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "lrd/config/node_reader.h"
+#include "lrd/map/reclamation.h"
 #include "lrd/match/orb_matcher.h"
 #include "lrd/optim/local_bundle_adjuster.h"
 #include "lrd/util/thread_errors.h"
@@ -94,7 +95,7 @@ class LocalMapper {
 
  private:
   void run();
-  void process(map::KeyFrame* kf);
+  void process(std::uint64_t keyframe_id);
   void process_new_keyframe(map::KeyFrame* kf);
   void cull_recent_map_points(map::KeyFrame* kf);
   void create_new_map_points(map::KeyFrame* kf);
@@ -110,10 +111,11 @@ class LocalMapper {
   map::KeyFrameDatabase* database_ = nullptr;
   KeyFrameCallback keyframe_callback_;
   std::list<map::MapPoint*> recent_points_;  // this thread only
+  map::ReclamationMembership reclamation_;
 
   util::ThreadErrors own_errors_;
   util::ThreadErrors* errors_ = &own_errors_;
-  util::WorkQueue<map::KeyFrame*> queue_;
+  util::WorkQueue<std::uint64_t> queue_;  // keyframe ids: one may be removed while queued
   std::atomic<bool> accepting_{true};
   std::atomic<bool> abort_ba_{false};
   mutable std::mutex stats_mutex_;

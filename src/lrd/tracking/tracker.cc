@@ -80,7 +80,8 @@ Tracker::Tracker(map::Map& map, mapping::LocalMapper& mapper, TrackerParams para
       keyframes_(map, mapper, params_),
       motion_matcher_({0.9f, true}),
       reference_matcher_({0.7f, true}),
-      local_matcher_({0.8f, false}) {}
+      local_matcher_({0.8f, false}),
+      reclamation_(map.reclamation(), "tracking") {}
 
 TrackOutcome Tracker::track(data::Frame& frame) {
   TrackOutcome outcome;
@@ -109,6 +110,7 @@ TrackOutcome Tracker::track(data::Frame& frame) {
     }
   }
   record(frame);
+  let_go_of_removed_objects();
   if (outcome.new_keyframe != nullptr) {
     outcome.new_keyframe_id = outcome.new_keyframe->id();
     outcome.new_keyframe_T_wc = outcome.new_keyframe->T_wc();
@@ -159,9 +161,9 @@ void Tracker::record(const data::Frame& frame) {
   rec.state = state_;
   rec.inliers = inliers_;
   if (state_ == TrackingState::Ok && frame.has_pose() && reference_kf_ != nullptr) {
-    rec.reference = reference_kf_;
+    rec.reference = reference_kf_->id();
     rec.T_c_ref = frame.T_cw() * reference_kf_->T_wc();
-    last_frame_reference_ = reference_kf_;
+    last_frame_reference_ = reference_kf_->id();
     last_T_c_ref_ = rec.T_c_ref;
   }
   records_.push_back(rec);
@@ -204,8 +206,24 @@ map::KeyFrame* Tracker::initialize(data::Frame& frame) {
 
 void Tracker::update_last_frame() {
   // The last frame's pose from its reference keyframe, which local BA may have moved.
-  if (last_frame_reference_ != nullptr && !last_frame_reference_->is_bad())
-    last_frame_->set_pose(last_T_c_ref_ * last_frame_reference_->T_cw());
+  if (!last_frame_reference_) return;
+  if (const map::KeyFrame* ref = map_.keyframe(*last_frame_reference_))
+    last_frame_->set_pose(last_T_c_ref_ * ref->T_cw());
+}
+
+void Tracker::let_go_of_removed_objects() {
+  // After a tracked frame everything here was found in the map during this hold; after a lost
+  // one the local map and the reference keyframe may be old.
+  if (last_frame_)
+    for (auto& mp : last_frame_->map_points) {
+      while (mp != nullptr && mp->replaced_by() != nullptr) mp = mp->replaced_by();
+      if (mp != nullptr && mp->is_bad()) mp = nullptr;
+    }
+  std::erase_if(local_keyframes_, [](const map::KeyFrame* kf) { return kf->is_bad(); });
+  std::erase_if(local_points_, [](const map::MapPoint* mp) { return mp->is_bad(); });
+  if (reference_kf_ != nullptr && reference_kf_->is_bad())
+    reference_kf_ = map_.nearest_active_keyframe(reference_kf_->id());
+  reclamation_.quiescent();
 }
 
 int Tracker::optimize_pose(data::Frame& frame) {

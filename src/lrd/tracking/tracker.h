@@ -12,6 +12,7 @@
 
 #include "lrd/data/frame.h"
 #include "lrd/dynamic/moving_point_check.h"
+#include "lrd/map/reclamation.h"
 #include "lrd/match/orb_matcher.h"
 #include "lrd/tracking/keyframe_inserter.h"
 #include "lrd/tracking/tracker_params.h"
@@ -37,7 +38,8 @@ struct FrameRecord {
   std::uint64_t frame_id = 0;
   double timestamp = 0.0;
   TrackingState state = TrackingState::NotInitialized;
-  map::KeyFrame* reference = nullptr;
+  // The reference keyframe's id (it may be culled and freed since: Map::resolve_pose follows it).
+  std::optional<std::uint64_t> reference;
   Eigen::Isometry3d T_c_ref = Eigen::Isometry3d::Identity();
   int inliers = 0;
 };
@@ -100,6 +102,9 @@ class Tracker {
   int optimize_pose(data::Frame& frame);
   void update_last_frame();
   void record(const data::Frame& frame);
+  // Drops or replaces the pointers it keeps to the next frame that lead to removed keyframes or
+  // map points, then tells the map's reclamation so (map mutex held).
+  void let_go_of_removed_objects();
   [[nodiscard]] bool recently_recovered(const data::Frame& frame) const;
 
   map::Map& map_;
@@ -111,8 +116,9 @@ class Tracker {
   match::OrbMatcher local_matcher_;      // nn 0.8
 
   TrackingState state_ = TrackingState::NotInitialized;
+  map::ReclamationMembership reclamation_;
   std::optional<data::Frame> last_frame_;
-  map::KeyFrame* last_frame_reference_ = nullptr;
+  std::optional<std::uint64_t> last_frame_reference_;
   Eigen::Isometry3d last_T_c_ref_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> velocity_;  // T_c(t) c(t-1)
   map::KeyFrame* reference_kf_ = nullptr;
