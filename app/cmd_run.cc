@@ -71,10 +71,11 @@ void print_report(const runner::RunReport& r) {
   std::printf("map: %zu keyframes (%zu culled), %zu map points, %zu local BAs\n", r.map.keyframes,
               r.map.culled_keyframes, r.map.map_points, r.map.bundle_adjustments);
   std::printf("mode: %s  segmentation: %s\n", r.mode.c_str(), r.segmentation.c_str());
-  std::printf("place recognition: %s; loop closing %s; %zu loops closed, %d relocalizations, %d global BAs\n",
-              r.vocabulary.empty() ? "off (no vocabulary)" : r.vocabulary.c_str(),
-              r.loop_closing ? "on" : "off", r.loops.size(), r.map.relocalizations,
-              r.map.global_bundle_adjustments);
+  std::printf(
+      "place recognition: %s; loop closing %s; %zu loops closed (%d rejected), %d relocalizations, %d global "
+      "BAs\n",
+      r.vocabulary.empty() ? "off (no vocabulary)" : r.vocabulary.c_str(), r.loop_closing ? "on" : "off",
+      r.loops.size(), r.map.rejected_loops, r.map.relocalizations, r.map.global_bundle_adjustments);
   for (const loop::LoopEvent& e : r.loops)
     std::printf("  loop: frame %llu (keyframe %llu) -> keyframe %llu, %d inliers, corrected by %.3f m\n",
                 static_cast<unsigned long long>(e.frame_id), static_cast<unsigned long long>(e.keyframe_id),

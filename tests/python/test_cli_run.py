@@ -94,6 +94,7 @@ def test_summary_reports_place_recognition(sequence, tmp_path):
     assert s["loop_closing"] is True
     assert s["vocabulary"].endswith("orb_vocab.lrdv")
     assert s["loops"] == [] and s["relocalizations"] == 0  # 30 frames of a static sweep: nothing to close
+    assert s["rejected_loops"] == 0
     off = tmp_path / "off"
     r = lrdslam("run", "--sequence", sequence, "--out", off, "--quiet", "--max-frames", 30, "--no-loop-closing")
     assert "loop closing off" in r.stdout

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "lrd/loop/loop_agreement.h"
 #include "lrd/loop/loop_closer.h"
 #include "lrd/mapping/local_mapper.h"
 #include "lrd/util/fault_injection.h"
@@ -108,6 +109,7 @@ TEST(LoopCloser, CorrectsTheNeighbourhoodCarriesTheCorrectionOnAndFusesThePoints
   }
   const auto stats = closer.stats();
   ASSERT_EQ(stats.loops.size(), 1u);
+  EXPECT_EQ(stats.rejected_loops, 0);  // a true loop after drift shares no structure to contradict
   const auto& loop = stats.loops.front();
   EXPECT_EQ(loop.keyframe_id, s.back[3]->id());
   EXPECT_EQ(loop.loop_keyframe_id, s.first[3]->id());
@@ -231,4 +233,35 @@ TEST(LoopCloser, AGlobalBaFailureIsKeptNamingItsThread) {
   lrd::util::set_fault_point("");
   ASSERT_TRUE(errors.has_error());
   EXPECT_EQ(errors.message(), "global BA thread: injected failure at global_ba (LRDSLAM_FAIL_AT)");
+}
+
+// A loop must agree with structure the map already shares between its two sides
+// (loop/loop_agreement.h): here the first visit's keyframe 0 sees the points of keyframes 1-3.
+TEST(LoopAgreement, ACorrectionThatMovesSharedStructureAwayIsAContradiction) {
+  ClosingScene c;
+  LoopScene& s = c.s;
+  const std::vector<KeyFrame*> neighbourhood(s.first.begin() + 1, s.first.end());
+  const KeyFrame& old = *s.first[0];
+  const auto still = lrd::loop::measure_loop_agreement(neighbourhood, old, Eigen::Isometry3d::Identity());
+  ASSERT_GE(still.shared, 20u);
+  EXPECT_LT(still.median_before_px, 2.0);
+  EXPECT_EQ(still.median_after_px, still.median_before_px);
+  EXPECT_FALSE(still.contradicts());
+  // A 0.3 m, 5 degree "correction" of a map that is right.
+  const auto moved =
+      lrd::loop::measure_loop_agreement(neighbourhood, old, lrd::test::pose(0.0, 0.09, 0.0, 0.3, 0.0, 0.0));
+  EXPECT_EQ(moved.shared, still.shared);
+  EXPECT_GT(moved.median_after_px, 10.0);
+  EXPECT_TRUE(moved.contradicts());
+  // A few centimetres: the error grows, not past the bar.
+  const auto nudged =
+      lrd::loop::measure_loop_agreement(neighbourhood, old, lrd::test::pose(0.0, 0.0, 0.0, 0.005, 0.0, 0.0));
+  EXPECT_FALSE(nudged.contradicts());
+  // The second visit shares no structure with the first (drift kept tracking from seeing it):
+  // nothing to contradict, whatever the correction.
+  const std::vector<KeyFrame*> second(s.back.begin(), s.back.end());
+  const auto apart =
+      lrd::loop::measure_loop_agreement(second, old, lrd::test::pose(0.0, 0.09, 0.0, 0.3, 0.0, 0.0));
+  EXPECT_EQ(apart.shared, 0u);
+  EXPECT_FALSE(apart.contradicts());
 }

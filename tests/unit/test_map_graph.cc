@@ -423,3 +423,28 @@ TEST(Map, IdsOrderAndLifetime) {
   EXPECT_EQ(g.map.keyframe(1), kf1);
   EXPECT_EQ(g.map.keyframe(7), nullptr);
 }
+
+TEST(MapPoint, RemovalClearsEverySlotOfItsObserversIncludingASecondOne) {
+  // Tracking can match one point to two keypoints of a frame; the keyframe made from it keeps both
+  // slots while the point records one observation. A removed point must leave neither slot behind
+  // (it is freed once no thread holds it: map/reclamation.h).
+  Graph g;
+  KeyFrame* kf0 = g.keyframe();
+  KeyFrame* kf1 = g.keyframe();
+  MapPoint* p = g.point({kf0, kf1});
+  MapPoint* q = g.point({kf0, kf1});
+  MapPoint* r = g.point({kf0, kf1});
+  const std::size_t spare = g.stereo.at(g.next_stereo++);
+  const std::size_t spare2 = g.stereo.at(g.next_stereo++);
+  kf1->add_map_point(p, spare);  // a second slot, no second observation
+  kf1->add_map_point(q, spare2);
+  ASSERT_NE(p->index_in(kf1), std::optional<std::size_t>(spare));
+  p->set_bad();
+  for (MapPoint* slot : kf1->map_points()) EXPECT_NE(slot, p);
+  EXPECT_EQ(kf1->map_point(spare), nullptr);
+  // Replaced: the observed slot goes to the survivor, the second one is cleared.
+  q->replace(r);
+  for (MapPoint* slot : kf1->map_points()) EXPECT_NE(slot, q);
+  EXPECT_EQ(kf1->map_point(spare2), nullptr);
+  EXPECT_EQ(r->num_observations(), 4);
+}

@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "lrd/loop/loop_agreement.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/keyframe_database.h"
 #include "lrd/map/map.h"
@@ -122,7 +123,12 @@ void LoopCloser::process(std::uint64_t keyframe_id) {
       const auto loop = detector_.detect(kf);
       if (loop && loop->T_cw_corrected.matrix().allFinite()) {
         event = correct_loop(*loop);
-        detector_.loop_closed(kf);
+        if (event) {
+          detector_.loop_closed(kf);
+        } else {
+          std::lock_guard slock(stats_mutex_);
+          ++stats_.rejected_loops;
+        }
       }
     } catch (...) {
       // Never out of this thread (std::terminate): the map keeps what was corrected so far,
@@ -147,9 +153,8 @@ void LoopCloser::process(std::uint64_t keyframe_id) {
   }
 }
 
-LoopEvent LoopCloser::correct_loop(const LoopDetection& loop) {
+std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
   map::KeyFrame* kf = loop.current;
-  mapper_.interrupt_ba();
   const std::uint64_t tag = kf->id();
   LoopEvent event{kf->frame_id(), kf->timestamp(), kf->id(), loop.loop->id(), loop.match_count, 0.0};
   event.correction_m = (kf->camera_center() - loop.T_cw_corrected.inverse().translation()).norm();
@@ -169,6 +174,8 @@ LoopEvent LoopCloser::correct_loop(const LoopDetection& loop) {
       connected.push_back(k);
     }
   std::sort(connected.begin(), connected.end(), map::ById{});
+  if (!agrees_with_map(loop, connected, event.correction_m)) return std::nullopt;
+  mapper_.interrupt_ba();
   KeyFramePoses uncorrected, corrected;
   const Eigen::Isometry3d T_wc_kf = kf->T_wc();
   for (map::KeyFrame* k : connected) {
@@ -288,6 +295,25 @@ LoopEvent LoopCloser::correct_loop(const LoopDetection& loop) {
                 kf->id(), loop.loop->id(), connected.size(), edges.size(), result.initial_cost,
                 result.final_cost);
   return event;
+}
+
+bool LoopCloser::agrees_with_map(const LoopDetection& loop, const std::vector<map::KeyFrame*>& neighbourhood,
+                                 double correction_m) const {
+  const std::uint64_t current = loop.current->id(), old = loop.loop->id();
+  if (std::find(neighbourhood.begin(), neighbourhood.end(), loop.loop) != neighbourhood.end()) {
+    spdlog::warn("loop {}-{} rejected: keyframe {} is a covisible neighbour of keyframe {} already", current,
+                 old, old, current);
+    return false;
+  }
+  const LoopAgreement a =
+      measure_loop_agreement(neighbourhood, *loop.loop, loop.T_cw_corrected.inverse() * loop.current->T_cw());
+  if (!a.contradicts()) return true;
+  spdlog::warn(
+      "loop {}-{} rejected: its correction ({:.3f} m) contradicts the map: keyframe {} sees {} points of "
+      "keyframe "
+      "{}'s neighbourhood at a median {:.1f} px, {:.1f} px after the correction",
+      current, old, correction_m, old, a.shared, current, a.median_before_px, a.median_after_px);
+  return false;
 }
 
 void LoopCloser::start_global_ba(std::uint64_t run) {

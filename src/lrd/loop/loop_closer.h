@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -62,6 +63,7 @@ struct LoopEvent {
 
 struct LoopCloserStats {
   std::vector<LoopEvent> loops;
+  int rejected_loops = 0;  // detected, but contradicted by the map (loop_agreement.h)
   int global_bundle_adjustments = 0;
   int aborted_global_bundle_adjustments = 0;
   double seconds = 0.0;  // detection and correction (global BA not included)
@@ -93,7 +95,13 @@ class LoopCloser {
  private:
   void run();
   void process(std::uint64_t keyframe_id);
-  LoopEvent correct_loop(const LoopDetection& loop);
+  // Empty when the loop is rejected (agrees_with_map); the map is then untouched.
+  std::optional<LoopEvent> correct_loop(const LoopDetection& loop);
+  // A loop whose keyframe already shares structure with the current neighbourhood must agree
+  // with it (loop_agreement.h); a warning names the loop otherwise.
+  [[nodiscard]] bool agrees_with_map(const LoopDetection& loop,
+                                     const std::vector<map::KeyFrame*>& neighbourhood,
+                                     double correction_m) const;
   void run_global_ba(std::uint64_t run);
   void start_global_ba(std::uint64_t run);
   void stop_global_ba();

@@ -160,18 +160,15 @@ void LocalMapper::process_new_keyframe(map::KeyFrame* kf) {
       kf->erase_map_point(i);
       continue;
     }
-    const auto observed_at = mp->index_in(kf);
-    if (!observed_at) {
+    if (!mp->is_in_keyframe(kf)) {
       // Matched by tracking: the keyframe becomes one more observation.
       mp->add_observation(kf, i);
       mp->update_normal_and_depth();
       mp->compute_distinctive_descriptor();
-    } else if (*observed_at != i) {
-      // Tracking matched the point to two keypoints: one observation, one slot (a second slot
-      // would not be cleared when the point goes).
-      kf->erase_map_point(i);
     } else {
-      // Created by tracking from this keyframe's depth: watch it in its first keyframes.
+      // Created by tracking from this keyframe's depth: watch it in its first keyframes. (Or
+      // matched by tracking to two keypoints: the second slot keeps it, unobserved; removing the
+      // point clears every slot of its observers, map_point.cc.)
       recent_points_.push_back(mp);
     }
   }
@@ -351,9 +348,10 @@ void LocalMapper::cull_keyframes(map::KeyFrame* kf) {
       if (observers >= needed) ++redundant;
     }
     if (n_points > 0 && redundant > params_.redundant_ratio * n_points) {
-      k2->set_bad();
+      k2->set_bad();  // refused for a keyframe on a loop edge or examined by loop closing
+      if (!k2->is_bad()) continue;
       // Indexed here, so dropped from the index here: it may be freed once every thread let go.
-      if (k2->is_bad() && database_ != nullptr) database_->erase(k2);
+      if (database_ != nullptr) database_->erase(k2);
       ++culled;
     }
   }
