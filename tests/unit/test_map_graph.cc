@@ -448,3 +448,25 @@ TEST(MapPoint, RemovalClearsEverySlotOfItsObserversIncludingASecondOne) {
   EXPECT_EQ(kf1->map_point(spare2), nullptr);
   EXPECT_EQ(r->num_observations(), 4);
 }
+
+TEST(KeyFrameGraph, RemovalErasesOneSidedEdgesToo) {
+  // An edge can be one-sided: a keyframe counted another when they shared more points than the
+  // other counts now. A removed keyframe is freed later, so no keyframe may keep it as a neighbour.
+  Graph g;
+  KeyFrame* kf0 = g.keyframe();
+  KeyFrame* kf1 = g.keyframe();
+  KeyFrame* kf2 = g.keyframe();
+  g.points(20, {kf0, kf1});
+  g.points(20, {kf1, kf2});
+  kf1->update_connections();
+  kf2->update_connections();
+  kf0->add_connection(kf2, 30);  // kf2 does not list kf0
+  ASSERT_EQ(kf2->weight(kf0), 0);
+  ASSERT_EQ(kf0->weight(kf2), 30);
+  kf2->set_bad();
+  ASSERT_TRUE(kf2->is_bad());
+  EXPECT_EQ(kf0->weight(kf2), 0);
+  EXPECT_EQ(kf1->weight(kf2), 0);
+  for (KeyFrame* kf : {kf0, kf1})
+    for (KeyFrame* n : kf->ordered_covisibles()) EXPECT_NE(n, kf2);
+}

@@ -169,7 +169,10 @@ std::vector<KeyFrame*> KeyFrame::essential_neighbours(int min_weight) const {
 
 void KeyFrame::set_bad() {
   if (id_ == 0 || bad_ || not_erase_) return;
-  for (const auto& [kf, w] : connections_) kf->erase_connection(this);
+  // Every keyframe that lists it, not only those it lists: an edge can be one-sided (a neighbour
+  // counted it when they shared more points than they do now), and it is freed later.
+  for (KeyFrame* kf : map_->keyframes())
+    if (kf != this) kf->erase_connection(this);
   // Its points will no longer list it: they could be freed while these slots still named them.
   std::vector<MapPoint*> points(points_.size(), nullptr);
   points.swap(points_);
