@@ -36,11 +36,7 @@ std::size_t KeyFrame::memory_bytes() const {
          (children_.size() + loop_edges_.size()) * (sizeof(KeyFrame*) + kNode);
 }
 
-void KeyFrame::erase_map_point(MapPoint* mp) {
-  if (const auto idx = mp->index_in(this)) points_[*idx] = nullptr;
-}
-
-void KeyFrame::forget_map_point(const MapPoint* mp) {
+void KeyFrame::erase_map_point(const MapPoint* mp) {
   for (MapPoint*& slot : points_)
     if (slot == mp) slot = nullptr;
 }

@@ -49,9 +49,9 @@ class KeyFrame {
   [[nodiscard]] MapPoint* map_point(std::size_t i) const { return points_[i]; }
   void add_map_point(MapPoint* mp, std::size_t i) { points_[i] = mp; }
   void erase_map_point(std::size_t i) { points_[i] = nullptr; }
-  void erase_map_point(MapPoint* mp);
-  // Clears every slot holding `mp`, whether or not mp lists this keyframe among its observations.
-  void forget_map_point(const MapPoint* mp);
+  // Clears every slot holding `mp`, whether or not mp lists this keyframe among its observations
+  // (tracking can match one point to two keypoints; a keyframe not yet mapped is not observed).
+  void erase_map_point(const MapPoint* mp);
   // Good map points with at least `min_observations` (weighted) observations.
   [[nodiscard]] int tracked_map_points(int min_observations) const;
   // Depth of the q-quantile of the scene in front of the camera (q = 0.5: median).

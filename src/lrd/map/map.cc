@@ -35,7 +35,7 @@ void Map::erase_keyframe(KeyFrame* kf) {
 void Map::erase_map_point(MapPoint* mp) {
   auto node = points_.extract(mp->id());
   if (node.empty()) return;
-  for (KeyFrame* kf : unmapped_) kf->forget_map_point(mp);
+  for (KeyFrame* kf : unmapped_) kf->erase_map_point(mp);
   reclamation_.retire(std::move(node.mapped()));
 }
 

@@ -45,7 +45,7 @@ void MapPoint::set_bad() {
   observations_.clear();
   num_obs_ = 0;
   // Every slot: tracking may have matched the point to two keypoints of a keyframe.
-  for (const auto& [kf, idx] : obs) kf->forget_map_point(this);
+  for (const auto& [kf, idx] : obs) kf->erase_map_point(this);
   map_->erase_map_point(this);
 }
 
@@ -62,7 +62,7 @@ void MapPoint::replace(MapPoint* other) {
     } else {
       kf->erase_map_point(idx);
     }
-    kf->forget_map_point(this);  // a second slot of the same keyframe
+    kf->erase_map_point(this);  // a second slot of the same keyframe
   }
   other->increase_found(found_);
   other->increase_visible(visible_);

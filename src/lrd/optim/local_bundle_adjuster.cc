@@ -124,7 +124,7 @@ LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map:
     ++stats.outliers;
     map::KeyFrame* kf = kfs[o.kf];
     map::MapPoint* mp = mps[o.point];
-    kf->forget_map_point(mp);  // its slot, and a second one if tracking matched it twice
+    kf->erase_map_point(mp);  // its slot, and a second one if tracking matched it twice
     mp->erase_observation(kf);
   }
   for (std::size_t i = 0; i < n_local; ++i)
