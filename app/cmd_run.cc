@@ -1,5 +1,5 @@
-// `lrdslam run`: SLAM over a TUM-layout sequence folder; trajectories, per-frame timings and a
-// summary into --out, and ATE/RPE when the folder has ground truth.
+// `lrdslam run`: SLAM over a TUM-layout sequence folder or a TUM-style rosbag; trajectories,
+// per-frame timings and a summary into --out, and ATE/RPE when the input has ground truth.
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -12,8 +12,10 @@
 #include <memory>
 #include <string>
 
+#include "app/bag_input.h"
 #include "app/commands.h"
 #include "lrd/runner/sequence_runner.h"
+#include "lrd/util/error.h"
 
 namespace lrd::app {
 namespace {
@@ -51,6 +53,7 @@ struct RunCli {
   bool deterministic = false;
   bool quiet = false;
   std::size_t max_frames = 0;
+  BagCli bag;
 };
 
 void print_dense(const runner::DenseReport& d) {
@@ -119,9 +122,23 @@ void print_report(const runner::RunReport& r) {
 
 void register_run_command(CLI::App& app) {
   auto cli = std::make_shared<RunCli>();
-  CLI::App* cmd = app.add_subcommand("run", "Run SLAM on a TUM-layout RGB-D sequence folder");
-  cmd->add_option("--sequence", cli->sequence, "Sequence folder (rgb.txt + depth.txt, or associations.txt)")
-      ->required();
+  CLI::App* cmd = app.add_subcommand("run", "Run SLAM on a TUM-layout RGB-D sequence folder or rosbag");
+  auto* sequence = cmd->add_option("--sequence", cli->sequence,
+                                   "Sequence folder (rgb.txt + depth.txt, or associations.txt)");
+  auto* bag =
+      cmd->add_option("--bag", cli->bag.bag,
+                      "Read the frames from a rosbag in the TUM RGB-D layout instead (no roscore needed)");
+  sequence->excludes(bag);
+  cmd->add_option("--rgb-topic", cli->bag.rgb_topic, "With --bag: colour images (sensor_msgs/Image)")
+      ->capture_default_str();
+  cmd->add_option("--depth-topic", cli->bag.depth_topic,
+                  "With --bag: depth images (sensor_msgs/Image, 32FC1 metres or 16UC1 millimetres)")
+      ->capture_default_str();
+  cmd->add_option("--camera-info-topic", cli->bag.camera_info_topic,
+                  "With --bag: the camera when no --settings/--preset/config camera is given")
+      ->capture_default_str();
+  cmd->add_option("--gt-from-tf", cli->bag.gt_from_tf,
+                  "With --bag: ground truth = CHILD's pose in PARENT on /tf, e.g. /world:/kinect (TUM bags)");
   auto* settings = cmd->add_option("--settings", cli->settings, "ORB-SLAM2/3 settings file for the camera");
   cmd->add_option("--preset", cli->preset, "Camera preset: tum1, tum2, tum3")->excludes(settings);
   cmd->add_option("--config", cli->config, "lrd-slam YAML config (see config/default.yaml)");
@@ -161,8 +178,11 @@ void register_run_command(CLI::App& app) {
                   "Bag-of-words vocabulary (lrdslam vocab train); default: the shipped vocab/orb_vocab.lrdv");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->callback([cli] {
+    if (cli->sequence.empty() == cli->bag.bag.empty())
+      throw Error("run: give the frames as --sequence FOLDER or --bag FILE.bag");
     runner::RunOptions o;
     o.sequence = cli->sequence;
+    if (!cli->bag.bag.empty()) o.source = open_bag(cli->bag);
     if (!cli->settings.empty()) o.settings = cli->settings;
     if (!cli->preset.empty()) o.preset = cli->preset;
     if (!cli->config.empty()) o.config = cli->config;

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 
+#include "app/bag_input.h"
 #include "app/commands.h"
 #include "lrd/synth/presets.h"
 #include "lrd/synth/sequence_writer.h"
@@ -24,6 +25,10 @@ void register_synth_command(CLI::App& app) {
     preset_help += "\n  " + s.name + " (" + std::to_string(s.default_frames) + " frames): " + s.description;
   cmd->add_option("--preset", opts->preset, preset_help)->capture_default_str();
   cmd->add_option("--out", *out, "Output folder")->required(false);
+  auto bag = std::make_shared<std::string>();
+  cmd->add_option("--bag", *bag,
+                  "Also write the sequence as a TUM-style rosbag (the TUM bags' topics, types and frame ids, "
+                  "camera_info, /tf /world -> /kinect ground truth)");
   cmd->add_option("--seed", opts->seed, "Random seed (actors' looks and timing, camera tremor, sensor noise)")
       ->capture_default_str();
   cmd->add_option("--frames", opts->frames,
@@ -43,7 +48,7 @@ void register_synth_command(CLI::App& app) {
       "folder (frames of every preset; seeds from --seed, default 1000, disjoint from evaluation seeds)");
   cmd->add_option("--images", *voc_images, "With --export-voc: number of images")->capture_default_str();
   auto* seed_opt = cmd->get_option("--seed");
-  cmd->callback([opts, out, list, voc_dir, voc_images, seed_opt, blank] {
+  cmd->callback([opts, out, list, voc_dir, voc_images, seed_opt, blank, bag] {
     if (!blank->empty()) {
       int from = -1, count = -1;
       char rest = 0;
@@ -85,6 +90,10 @@ void register_synth_command(CLI::App& app) {
         seq.spec().name.c_str(), summary.frames, summary.seconds, summary.frames / summary.seconds,
         100 * summary.mean_dynamic_fraction, 100 * summary.median_dynamic_fraction,
         100 * summary.max_dynamic_fraction, 100 * summary.frames_with_20_to_50_percent);
+    if (!bag->empty()) {
+      write_folder_as_bag(*out, *bag);
+      std::printf("wrote %s\n", bag->c_str());
+    }
   });
 }
 

@@ -15,6 +15,13 @@ PACKAGES=(
   python3 python3-numpy python3-opencv python3-pytest python3-yaml
   python3-torch python3-onnx python3-pil  # FNet: training, ONNX export fix-up, VOC palette labels
   python3-flatbuffers  # tools/tflite2onnx reads TFLite models (scripts/fetch-models.sh)
+  # ROS 1 (issue 19): rosbag input (`run --bag`, `synth --bag`) and the lrdslam_ros node with its
+  # tests (roscore, rosbag play, rostopic). rosbag's headers pull in bookworm's ROS 2 pluginlib,
+  # whose rcpputils/rcutils headers are named here because the build includes them.
+  ros-core libroscpp-dev librosbag-storage-dev libmessage-filters-dev libcv-bridge-dev
+  libimage-transport-dev libtf2-ros-dev libtf2-msgs-dev libsensor-msgs-dev libnav-msgs-dev
+  libgeometry-msgs-dev libvisualization-msgs-dev libstd-msgs-dev libstd-srvs-dev
+  librcpputils-dev librcutils-dev python3-rosbag
   # Real photographs used as textures by the synthetic benchmark (lrdslam synth)
   opencv-doc gnome-backgrounds mate-backgrounds
 )

@@ -16,19 +16,20 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-std::size_t checked_depth(const TumSequence& seq, std::size_t depth) {
-  if (depth == 0) throw file_error(seq.dir(), "frame prefetch queue depth must be >= 1");
+std::size_t checked_depth(const FrameSource& source, std::size_t depth) {
+  if (depth == 0) throw file_error(source.path(), "frame prefetch queue depth must be >= 1");
   return depth;
 }
 
 }  // namespace
 
-FramePrefetcher::FramePrefetcher(TumSequence sequence, double depth_factor, PrefetchOptions options)
-    : sequence_(std::move(sequence)),
+FramePrefetcher::FramePrefetcher(std::shared_ptr<const FrameSource> source, double depth_factor,
+                                 PrefetchOptions options)
+    : source_(std::move(source)),
       depth_factor_(depth_factor),
-      queue_depth_(checked_depth(sequence_, options.queue_depth)),
-      begin_(std::min(options.begin, sequence_.size())),
-      end_(std::clamp(options.end, begin_, sequence_.size())),
+      queue_depth_(checked_depth(*source_, options.queue_depth)),
+      begin_(std::min(options.begin, source_->size())),
+      end_(std::clamp(options.end, begin_, source_->size())),
       thread_([this] { run(); }) {}
 
 FramePrefetcher::~FramePrefetcher() {
@@ -53,7 +54,7 @@ void FramePrefetcher::run() {
     std::exception_ptr error;
     try {
       if (i > begin_) util::check_fault_point("prefetcher");
-      frame = sequence_.load_rgbd(i, depth_factor_);
+      frame = source_->load_rgbd(i, depth_factor_);
     } catch (...) {
       error = std::current_exception();
     }

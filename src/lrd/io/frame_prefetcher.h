@@ -1,15 +1,17 @@
 #pragma once
-// Decodes the frames of a TumSequence ahead of the consumer on its own thread, into a bounded
-// queue, so that PNG decoding overlaps tracking. Frames come out in sequence order.
+// Decodes the frames of a FrameSource (a folder or a bag) ahead of the consumer on its own thread, into a
+// bounded queue, so that PNG decoding overlaps tracking. Frames come out in sequence order.
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <thread>
 
+#include "lrd/io/frame_source.h"
 #include "lrd/io/rgbd_frame.h"
 #include "lrd/io/tum_sequence.h"
 
@@ -30,8 +32,12 @@ struct DecodeStats {
 
 class FramePrefetcher {
  public:
-  // Starts decoding at once. depth_factor: see TumSequence::load_rgbd.
-  FramePrefetcher(TumSequence sequence, double depth_factor, PrefetchOptions options = {});
+  // Starts decoding at once. depth_factor: see FrameSource::load_rgbd. Only the decoder thread
+  // reads the source while the prefetcher lives.
+  FramePrefetcher(std::shared_ptr<const FrameSource> source, double depth_factor,
+                  PrefetchOptions options = {});
+  FramePrefetcher(TumSequence sequence, double depth_factor, PrefetchOptions options = {})
+      : FramePrefetcher(std::make_shared<const TumSequence>(std::move(sequence)), depth_factor, options) {}
   // Stops the decoder thread (after the frame it is decoding, if any) and joins it.
   ~FramePrefetcher();
   FramePrefetcher(const FramePrefetcher&) = delete;
@@ -53,7 +59,7 @@ class FramePrefetcher {
  private:
   void run();
 
-  const TumSequence sequence_;
+  const std::shared_ptr<const FrameSource> source_;
   const double depth_factor_;
   const std::size_t queue_depth_;
   const std::size_t begin_;

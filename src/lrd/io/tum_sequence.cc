@@ -207,4 +207,24 @@ RgbdFrame TumSequence::load_rgbd(std::size_t i, double depth_factor) const {
   return load_rgbd_frame(entries_[i], i, depth_factor);
 }
 
+std::vector<std::pair<std::size_t, std::size_t>> associate_timestamps(const std::vector<double>& rgb,
+                                                                      const std::vector<double>& depth,
+                                                                      double max_dt) {
+  const auto stamped = [](const std::vector<double>& t) {
+    std::vector<Stamped> s(t.size());
+    for (std::size_t i = 0; i < t.size(); ++i) s[i].t = t[i];
+    return s;
+  };
+  return associate(stamped(rgb), stamped(depth), max_dt);
+}
+
+std::optional<Trajectory> TumSequence::ground_truth() const {
+  if (!groundtruth_) return std::nullopt;
+  return read_trajectory_tum(*groundtruth_);
+}
+
+std::string TumSequence::ground_truth_origin() const {
+  return groundtruth_ ? groundtruth_->string() : std::string();
+}
+
 }  // namespace lrd::io

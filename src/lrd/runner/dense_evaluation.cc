@@ -29,10 +29,10 @@ cv::Mat depth_png(const cv::Mat& metres, double factor) {
 }
 }  // namespace
 
-RepairRecorder::RepairRecorder(const io::TumSequence& sequence, double depth_factor,
+RepairRecorder::RepairRecorder(const io::FrameSource& sequence, double depth_factor,
                                std::optional<fs::path> save_dir)
     : sequence_(sequence), depth_factor_(depth_factor), save_dir_(std::move(save_dir)) {
-  has_truth_ = fs::is_directory(sequence.dir() / "static" / "depth");
+  has_truth_ = sequence.folder() && fs::is_directory(*sequence.folder() / "static" / "depth");
   for (std::size_t i = 0; i < sequence.size(); ++i) by_stamp_[micros(sequence.entry(i).timestamp)] = i;
   if (save_dir_) {
     std::error_code ec;
@@ -57,7 +57,7 @@ void RepairRecorder::record(double timestamp, const dense::RgbdView& keyframe,
   }
   if (!has_truth_) return;
   Filled f;
-  f.truth = sequence_.dir() / "static" / "depth" / e.depth_path.filename();
+  f.truth = *sequence_.folder() / "static" / "depth" / e.depth_path.filename();
   for (int v = 0; v < repair.filled.rows; ++v)
     for (int u = 0; u < repair.filled.cols; ++u)
       if (repair.filled.at<unsigned char>(v, u) != 0) {

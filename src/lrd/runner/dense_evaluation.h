@@ -12,6 +12,7 @@
 #include "lrd/dense/point_cloud.h"
 #include "lrd/eval/map_accuracy.h"
 #include "lrd/events/event_publisher.h"
+#include "lrd/io/frame_source.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/io/tum_sequence.h"
 
@@ -22,7 +23,7 @@ namespace lrd::runner {
 // (static/depth/).
 class RepairRecorder final : public events::Subscriber {
  public:
-  RepairRecorder(const io::TumSequence& sequence, double depth_factor,
+  RepairRecorder(const io::FrameSource& sequence, double depth_factor,
                  std::optional<std::filesystem::path> save_dir);
 
   void on_dense_map(const events::DenseMapUpdated& e) override {
@@ -42,7 +43,7 @@ class RepairRecorder final : public events::Subscriber {
   [[nodiscard]] DepthError depth_error() const;
 
  private:
-  const io::TumSequence& sequence_;
+  const io::FrameSource& sequence_;
   double depth_factor_;
   std::optional<std::filesystem::path> save_dir_;
   bool has_truth_ = false;

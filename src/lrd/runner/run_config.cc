@@ -10,6 +10,29 @@ namespace lrd::runner {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// A bag's camera_info over the default camera: the intrinsics and the size are the sensor's, the
+// depth settings stay (a camera_info has none).
+camera::PinholeCamera from_source(const io::SourceCamera& s, camera::PinholeCamera c) {
+  c.name = "camera_info";
+  c.width = s.width;
+  c.height = s.height;
+  c.fx = s.fx;
+  c.fy = s.fy;
+  c.cx = s.cx;
+  c.cy = s.cy;
+  c.distortion = {s.k1, s.k2, s.p1, s.p2, s.k3};
+  return c;
+}
+
+}  // namespace
+
+fs::path data_folder(const RunOptions& o) {
+  if (o.source) return o.source->folder().value_or(fs::path{});
+  return o.sequence;
+}
+
 config::Config resolve_config(const RunOptions& o, std::string* source) {
   config::Config cfg = o.config ? config::load_config(*o.config) : config::Config{};
   std::string from;
@@ -24,14 +47,19 @@ config::Config resolve_config(const RunOptions& o, std::string* source) {
     from = "preset " + *o.preset;
   } else if (cfg.camera_given) {
     from = "config " + cfg.file.string();
-  } else if (fs::exists(o.sequence / "settings.yaml")) {
-    const config::Settings s = config::read_orbslam_settings(o.sequence / "settings.yaml");
+  } else if (const auto carried = o.source ? o.source->camera() : std::nullopt) {
+    cfg.camera = from_source(*carried, cfg.camera);
+    from = carried->origin;
+  } else if (const fs::path folder = data_folder(o);
+             !folder.empty() && fs::exists(folder / "settings.yaml")) {
+    const config::Settings s = config::read_orbslam_settings(folder / "settings.yaml");
     cfg.camera = s.camera;
-    from = "settings " + (o.sequence / "settings.yaml").string();
+    from = "settings " + (folder / "settings.yaml").string();
   } else {
-    // TUM folder names carry the sensor: rgbd_dataset_freiburg3_walking_xyz.
-    std::string name = fs::absolute(o.sequence).lexically_normal().filename().string();
-    if (name.empty()) name = fs::absolute(o.sequence).lexically_normal().parent_path().filename().string();
+    // TUM folder and bag names carry the sensor: rgbd_dataset_freiburg3_walking_xyz(.bag).
+    const fs::path named = o.source ? o.source->path() : o.sequence;
+    std::string name = fs::absolute(named).lexically_normal().filename().string();
+    if (name.empty()) name = fs::absolute(named).lexically_normal().parent_path().filename().string();
     const std::size_t at = name.find("freiburg");
     const char sensor = at != std::string::npos && at + 8 < name.size() ? name[at + 8] : '\0';
     if (sensor >= '1' && sensor <= '3') {
@@ -51,6 +79,9 @@ segmentation::SegmentationParams segmenter_preset(const std::string& name, const
   if (name == "none") {
     p.backend = Backend::None;
   } else if (name == "gt-masks" || name == "gt-masks-all") {
+    if (sequence.empty())
+      throw Error("--segmenter " + name +
+                  " reads the synthetic sequence folder's mask/; this source has none");
     p.backend = Backend::Masks;
     p.masks.folder = sequence / "mask";
     // Synthetic mask values: 1 person, 2 moved object (sequence.json "mask_values").
@@ -68,7 +99,7 @@ segmentation::SegmentationParams segmenter_preset(const std::string& name, const
 std::string default_segmenter(const fs::path& sequence) {
   // Our synthetic benchmark writes sequence.json; FNet-lite was trained on its renders. Real
   // camera data gets the network that knows real people.
-  return fs::exists(sequence / "sequence.json") ? "fnet" : "selfie-landscape";
+  return !sequence.empty() && fs::exists(sequence / "sequence.json") ? "fnet" : "selfie-landscape";
 }
 
 SystemParams configure_system(const RunOptions& o, const config::Config& cfg) {
@@ -83,10 +114,10 @@ SystemParams configure_system(const RunOptions& o, const config::Config& cfg) {
   std::optional<std::string> name = o.segmenter;
   if (!name && dynamic::uses_segmentation(p.dynamic.mode) &&
       p.segmentation.backend == segmentation::Backend::None)
-    name = default_segmenter(o.sequence);
+    name = default_segmenter(data_folder(o));
   if (name)
     p.segmentation =
-        segmenter_preset(*name, o.sequence, p.segmentation, o.segmenter_model.value_or(fs::path{}));
+        segmenter_preset(*name, data_folder(o), p.segmentation, o.segmenter_model.value_or(fs::path{}));
   return p;
 }
 

@@ -10,7 +10,7 @@
 
 namespace lrd::runner {
 
-RunRecorder::RunRecorder(const io::TumSequence& sequence, std::size_t frames, bool progress,
+RunRecorder::RunRecorder(const io::FrameSource& sequence, std::size_t frames, bool progress,
                          std::optional<std::filesystem::path> save_masks)
     : sequence_(sequence), bar_(frames, progress), save_masks_(std::move(save_masks)) {
   log_.reserve(frames);
@@ -33,7 +33,7 @@ std::vector<FrameLog> RunRecorder::take_log() {
   return std::move(log_);
 }
 
-FlagScorer::FlagScorer(const io::TumSequence& sequence, std::filesystem::path mask_folder,
+FlagScorer::FlagScorer(const io::FrameSource& sequence, std::filesystem::path mask_folder,
                        const features::OrbParams& orb, int stride)
     : sequence_(sequence), mask_folder_(std::move(mask_folder)), extractor_(orb), stride_(stride) {}
 

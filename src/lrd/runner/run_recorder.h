@@ -12,7 +12,7 @@
 
 #include "lrd/events/event_publisher.h"
 #include "lrd/features/orb_extractor.h"
-#include "lrd/io/tum_sequence.h"
+#include "lrd/io/frame_source.h"
 #include "lrd/runner/progress_bar.h"
 #include "lrd/runner/sequence_runner.h"
 
@@ -20,14 +20,14 @@ namespace lrd::runner {
 
 class RunRecorder final : public events::Subscriber {
  public:
-  RunRecorder(const io::TumSequence& sequence, std::size_t frames, bool progress,
+  RunRecorder(const io::FrameSource& sequence, std::size_t frames, bool progress,
               std::optional<std::filesystem::path> save_masks);
   void on_frame(const events::FrameTracked& e) override;
   // After System::shutdown (the publisher has delivered everything).
   [[nodiscard]] std::vector<FrameLog> take_log();
 
  private:
-  const io::TumSequence& sequence_;
+  const io::FrameSource& sequence_;
   ProgressBar bar_;
   std::optional<std::filesystem::path> save_masks_;
   std::vector<FrameLog> log_;
@@ -35,13 +35,13 @@ class RunRecorder final : public events::Subscriber {
 
 class FlagScorer final : public events::Subscriber {
  public:
-  FlagScorer(const io::TumSequence& sequence, std::filesystem::path mask_folder,
+  FlagScorer(const io::FrameSource& sequence, std::filesystem::path mask_folder,
              const features::OrbParams& orb, int stride);
   void on_frame(const events::FrameTracked& e) override;
   [[nodiscard]] FlagScore score() const;
 
  private:
-  const io::TumSequence& sequence_;
+  const io::FrameSource& sequence_;
   std::filesystem::path mask_folder_;
   features::OrbExtractor extractor_;
   int stride_;

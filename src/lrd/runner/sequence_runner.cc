@@ -58,9 +58,10 @@ DenseReport finish_dense(const System& slam, const RepairRecorder& repairs, cons
       d.repair_compared_pixels = e.pixels;
     }
   }
-  if (fs::exists(o.sequence / "scene.ply") && trajectory.size() >= 2) {
+  if (const fs::path folder = data_folder(o);
+      !folder.empty() && fs::exists(folder / "scene.ply") && trajectory.size() >= 2) {
     try {
-      d.map = evaluate_dense_map(cloud, trajectory, o.sequence, camera, max_depth);
+      d.map = evaluate_dense_map(cloud, trajectory, folder, camera, max_depth);
     } catch (const std::exception& e) {
       spdlog::warn("dense map not judged: {}", e.what());
     }
@@ -73,7 +74,7 @@ namespace {
 
 // The frames through the system, as fast as they are tracked (or at the camera's pace).
 // Returns false when interrupted.
-bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o, const io::TumSequence& seq,
+bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o, const io::FrameSource& seq,
                   const camera::PinholeCamera& camera, const std::string& camera_source,
                   std::chrono::steady_clock::time_point wall0) {
   cv::Mat rgb;
@@ -90,7 +91,7 @@ bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o
     }
     // The image against the calibration: the error names both files.
     if (f->rgb.cols != camera.width || f->rgb.rows != camera.height)
-      throw file_error(seq.entry(f->index).rgb_path,
+      throw file_error(seq.describe(f->index),
                        fmt::format("image is {}x{}, the camera ({}) is {}x{}", f->rgb.cols, f->rgb.rows,
                                    camera_source, camera.width, camera.height));
     // The loader gives BGR; the system expects the camera's colour order.
@@ -104,7 +105,7 @@ bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o
 }
 
 // Trajectories, ATE/RPE against the sequence's ground truth, the dense map, summary.json.
-void evaluate(RunReport& report, const System& slam, const RunOptions& o, const io::TumSequence& seq,
+void evaluate(RunReport& report, const System& slam, const RunOptions& o, const io::FrameSource& seq,
               const config::Config& cfg, const SystemParams& params,
               const std::shared_ptr<RepairRecorder>& repairs) {
   summarize_log(report);
@@ -114,8 +115,10 @@ void evaluate(RunReport& report, const System& slam, const RunOptions& o, const 
   if (cfg.output.save_trajectory) io::write_trajectory_tum(o.out / "CameraTrajectory.txt", trajectory);
   if (cfg.output.save_keyframes) slam.save_keyframe_trajectory_tum(o.out / "KeyFrameTrajectory.txt");
   write_track_times(o.out / "track_times.txt", report.log);
-  if (seq.groundtruth_path() && trajectory.size() >= 2) {
-    const io::Trajectory gt = io::read_trajectory_tum(*seq.groundtruth_path());
+  const std::optional<io::Trajectory> ground_truth =
+      trajectory.size() >= 2 ? seq.ground_truth() : std::nullopt;
+  if (ground_truth) {
+    const io::Trajectory& gt = *ground_truth;
     try {
       const eval::AteResult ate = eval::compute_ate(gt, trajectory);
       const eval::RpeResult rpe = eval::compute_rpe(gt, trajectory, 1.0);
@@ -132,7 +135,7 @@ void evaluate(RunReport& report, const System& slam, const RunOptions& o, const 
       report.rpe_rot = rpe.rot;
     } catch (const Error& e) {
       spdlog::warn("no ATE/RPE: {} vs {}: {}", (o.out / "CameraTrajectory.txt").string(),
-                   seq.groundtruth_path()->string(), e.what());
+                   seq.ground_truth_origin(), e.what());
     }
   }
   if (slam.dense_enabled())
@@ -150,8 +153,10 @@ RunReport run_sequence(const RunOptions& options) {
   if (o.out.empty()) o.out = cfg.output.dir;
   report.out = o.out;
   const SystemParams params = configure_system(o, cfg);
-  const io::TumSequence seq = io::TumSequence::open(o.sequence);
-  if (seq.size() == 0) throw file_error(o.sequence.string(), "the sequence has no frames");
+  const std::shared_ptr<const io::FrameSource> source =
+      o.source ? o.source : std::make_shared<const io::TumSequence>(io::TumSequence::open(o.sequence));
+  const io::FrameSource& seq = *source;
+  if (seq.size() == 0) throw file_error(seq.path(), "the sequence has no frames");
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (ec) throw file_error(o.out.string(), "cannot create the output folder: " + ec.message());
@@ -164,7 +169,7 @@ RunReport run_sequence(const RunOptions& options) {
   if (o.max_frames > 0) popts.end = o.max_frames;
   if (o.preload) popts.queue_depth = std::max<std::size_t>(1, std::min(popts.end, seq.size()));
   const auto wall0 = std::chrono::steady_clock::now();
-  io::FramePrefetcher frames(seq, cfg.camera.depth_map_factor, popts);
+  io::FramePrefetcher frames(source, cfg.camera.depth_map_factor, popts);
   if (o.preload) frames.wait_until_decoded();
   SystemOptions sopts;
   sopts.deterministic = o.deterministic;
@@ -179,8 +184,9 @@ RunReport run_sequence(const RunOptions& options) {
   }
   slam.subscribe(recorder);
   // Ground-truth masks (synthetic benchmark): the dynamic flags are scored on every n-th frame.
-  if (fs::is_directory(o.sequence / "mask") && o.flag_eval_stride > 0) {
-    scorer = std::make_shared<FlagScorer>(seq, o.sequence / "mask", cfg.features, o.flag_eval_stride);
+  const fs::path folder = data_folder(o);
+  if (!folder.empty() && fs::is_directory(folder / "mask") && o.flag_eval_stride > 0) {
+    scorer = std::make_shared<FlagScorer>(seq, folder / "mask", cfg.features, o.flag_eval_stride);
     slam.subscribe(scorer);
   }
   report.mode = dynamic::to_string(slam.mode());

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,12 +15,16 @@
 #include "lrd/config/config.h"
 #include "lrd/eval/map_accuracy.h"
 #include "lrd/eval/statistics.h"
+#include "lrd/io/frame_source.h"
 #include "lrd/system.h"
 
 namespace lrd::runner {
 
 struct RunOptions {
-  std::filesystem::path sequence;                 // folder with rgb.txt / depth.txt or associations.txt
+  std::filesystem::path sequence;  // folder with rgb.txt / depth.txt or associations.txt
+  // Frames from another source instead of the folder (a rosbag: lrd_ros::BagSequence, in a build
+  // with ROS). Its camera, if it carries one, comes after --settings, --preset and the config's.
+  std::shared_ptr<const io::FrameSource> source;
   std::optional<std::filesystem::path> settings;  // ORB-SLAM2/3 settings file
   std::optional<std::string> preset;              // camera preset (tum1, tum2, tum3)
   std::optional<std::filesystem::path> config;    // lrd-slam YAML config
@@ -56,8 +61,9 @@ struct RunOptions {
 };
 
 // Chooses the camera: --settings, else --preset, else the config's camera section if the config
-// has one, else the sequence's own settings.yaml (synthetic benchmark), else the TUM preset named
-// by a "freiburgN" folder name, else the default (tum3). `source` says which was used.
+// has one, else the camera the frame source carries (a bag's camera_info), else the sequence's own
+// settings.yaml (synthetic benchmark), else the TUM preset named by a "freiburgN" folder (or bag)
+// name, else the default (tum3). `source` says which was used.
 [[nodiscard]] config::Config resolve_config(const RunOptions& options, std::string* source = nullptr);
 
 // Segmentation presets for --segmenter (the config's `segmentation` section supplies the
@@ -75,8 +81,12 @@ struct RunOptions {
                                                                 const std::filesystem::path& model = {});
 
 // The segmenter a semantic/full run gets when none is configured: fnet for our synthetic
-// benchmark (it has sequence.json), selfie-landscape for real data.
+// benchmark (it has sequence.json), selfie-landscape for real data (and for a source without a
+// folder, an empty path).
 [[nodiscard]] std::string default_segmenter(const std::filesystem::path& sequence);
+
+// The folder of a run's extra files: the sequence folder, or the source's (empty for a bag).
+[[nodiscard]] std::filesystem::path data_folder(const RunOptions& options);
 
 struct FrameLog {
   std::size_t index = 0;

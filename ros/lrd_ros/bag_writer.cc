@@ -1,0 +1,58 @@
+#include "lrd_ros/bag_writer.h"
+
+#include <rosbag/bag.h>
+#include <rosbag/exceptions.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <Eigen/Geometry>
+
+#include "lrd/util/error.h"
+#include "lrd_ros/image_messages.h"
+
+namespace lrd_ros {
+
+namespace {
+
+tf2_msgs::TFMessage transform_message(const lrd::io::StampedPose& p, const BagLayout& layout) {
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = to_stamp(p.timestamp);
+  t.header.frame_id = layout.topics.gt_parent;
+  t.child_frame_id = layout.topics.gt_child;
+  const Eigen::Quaterniond q(p.pose.linear());
+  t.transform.rotation.x = q.x();
+  t.transform.rotation.y = q.y();
+  t.transform.rotation.z = q.z();
+  t.transform.rotation.w = q.w();
+  t.transform.translation.x = p.pose.translation().x();
+  t.transform.translation.y = p.pose.translation().y();
+  t.transform.translation.z = p.pose.translation().z();
+  tf2_msgs::TFMessage m;
+  m.transforms.push_back(t);
+  return m;
+}
+
+}  // namespace
+
+void write_bag(const lrd::io::FrameSource& source, const lrd::camera::PinholeCamera& camera,
+               const std::filesystem::path& file, const BagLayout& layout) {
+  try {
+    rosbag::Bag bag(file.string(), rosbag::bagmode::Write);
+    for (std::size_t i = 0; i < source.size(); ++i) {
+      const lrd::io::FrameEntry& e = source.entry(i);
+      const lrd::io::RgbdFrame f = source.load_rgbd(i, camera.depth_map_factor);
+      const ros::Time t_rgb = to_stamp(e.timestamp), t_depth = to_stamp(e.depth_timestamp);
+      bag.write(layout.topics.rgb, t_rgb, colour_message(f.rgb, t_rgb, layout.rgb_frame));
+      bag.write(layout.topics.camera_info, t_rgb, camera_info_message(camera, t_rgb, layout.rgb_frame));
+      bag.write(layout.topics.depth, t_depth, depth_message(f.depth, t_depth, layout.depth_frame));
+      bag.write(layout.depth_camera_info, t_depth, camera_info_message(camera, t_depth, layout.depth_frame));
+    }
+    if (const auto gt = source.ground_truth())
+      for (const lrd::io::StampedPose& p : *gt)
+        bag.write("/tf", to_stamp(p.timestamp), transform_message(p, layout));
+    bag.close();
+  } catch (const rosbag::BagException& e) {
+    throw lrd::file_error(file, std::string("cannot write the bag: ") + e.what());
+  }
+}
+
+}  // namespace lrd_ros
