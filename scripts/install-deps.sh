@@ -22,6 +22,8 @@ PACKAGES=(
   libimage-transport-dev libtf2-ros-dev libtf2-msgs-dev libsensor-msgs-dev libnav-msgs-dev
   libgeometry-msgs-dev libvisualization-msgs-dev libstd-msgs-dev libstd-srvs-dev
   librcpputils-dev librcutils-dev python3-rosbag
+  python3-rospy python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-std-srvs python3-std-msgs
+  python3-visualization-msgs python3-tf2-msgs  # the node tests publish, subscribe and call services
   # Real photographs used as textures by the synthetic benchmark (lrdslam synth)
   opencv-doc gnome-backgrounds mate-backgrounds
 )

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -101,9 +102,21 @@ cv::Mat depth_from_message(const sensor_msgs::Image& m) {
   if (m.encoding == "32FC1") {
     check_layout(m, 4, 4);
     view(m, CV_32FC1).copyTo(metres);
-    metres.forEach<float>([](float& z, const int*) {
-      if (!std::isfinite(z) || z < 0.0f) z = 0.0f;
-    });
+    // NaN and infinity are REP 118's "no return" (every TUM bag has them); a negative distance is
+    // a broken message.
+    std::size_t negative = 0;
+    float lowest = 0.0f;
+    for (int r = 0; r < metres.rows; ++r)
+      for (float* z = metres.ptr<float>(r); z != metres.ptr<float>(r) + metres.cols; ++z) {
+        if (!std::isfinite(*z)) {
+          *z = 0.0f;
+        } else if (*z < 0.0f) {
+          ++negative;
+          lowest = std::min(lowest, *z);
+        }
+      }
+    if (negative > 0)
+      throw lrd::Error(fmt::format("{} pixels of negative depth (down to {} m)", negative, lowest));
   } else if (m.encoding == "16UC1" || m.encoding == "mono16") {
     check_layout(m, 2, 2);
     view(m, CV_16UC1).convertTo(metres, CV_32F, 1e-3);

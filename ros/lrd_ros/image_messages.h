@@ -25,8 +25,8 @@ namespace lrd_ros {
 
 // Colour: rgb8, bgr8, rgba8, bgra8 or mono8 -> CV_8UC3 BGR.
 [[nodiscard]] cv::Mat colour_from_message(const sensor_msgs::Image& message);
-// Depth: 32FC1 metres (NaN, infinite and negative values become 0, "no measurement") or 16UC1
-// millimetres (REP 118) -> CV_32FC1 metres.
+// Depth: 32FC1 metres (NaN and infinity become 0, "no measurement"; a negative value is an
+// error) or 16UC1 millimetres (REP 118) -> CV_32FC1 metres.
 [[nodiscard]] cv::Mat depth_from_message(const sensor_msgs::Image& message);
 
 // BGR -> rgb8 and metres -> 32FC1 messages (what a TUM bag carries).

@@ -117,14 +117,18 @@ TEST_F(BagTest, DepthUnitsAndInvalidValues) {
 
   cv::Mat z(1, 4, CV_32FC1);
   z.at<float>(0, 0) = std::numeric_limits<float>::quiet_NaN();
-  z.at<float>(0, 1) = -1.0f;
+  z.at<float>(0, 1) = 1.5f;
   z.at<float>(0, 2) = std::numeric_limits<float>::infinity();
   z.at<float>(0, 3) = 2.5f;
   const cv::Mat out = lrd_ros::depth_from_message(lrd_ros::depth_message(z, ros::Time(1, 0), "d"));
-  EXPECT_EQ(out.at<float>(0, 0), 0.0f);
-  EXPECT_EQ(out.at<float>(0, 1), 0.0f);
+  EXPECT_EQ(out.at<float>(0, 0), 0.0f);  // NaN: no return
+  EXPECT_EQ(out.at<float>(0, 1), 1.5f);
   EXPECT_EQ(out.at<float>(0, 2), 0.0f);
   EXPECT_EQ(out.at<float>(0, 3), 2.5f);
+  z.at<float>(0, 1) = -1.0f;
+  EXPECT_THAT(
+      error_of([&] { (void)lrd_ros::depth_from_message(lrd_ros::depth_message(z, ros::Time(1, 0), "d")); }),
+      HasSubstr("1 pixels of negative depth (down to -1 m)"));
 }
 
 TEST(ImageMessages, MalformedMessagesAreErrorsNotCrashes) {

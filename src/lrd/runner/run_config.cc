@@ -10,11 +10,7 @@ namespace lrd::runner {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// A bag's camera_info over the default camera: the intrinsics and the size are the sensor's, the
-// depth settings stay (a camera_info has none).
-camera::PinholeCamera from_source(const io::SourceCamera& s, camera::PinholeCamera c) {
+camera::PinholeCamera camera_from_source(const io::SourceCamera& s, camera::PinholeCamera c) {
   c.name = "camera_info";
   c.width = s.width;
   c.height = s.height;
@@ -25,8 +21,6 @@ camera::PinholeCamera from_source(const io::SourceCamera& s, camera::PinholeCame
   c.distortion = {s.k1, s.k2, s.p1, s.p2, s.k3};
   return c;
 }
-
-}  // namespace
 
 fs::path data_folder(const RunOptions& o) {
   if (o.source) return o.source->folder().value_or(fs::path{});
@@ -48,7 +42,7 @@ config::Config resolve_config(const RunOptions& o, std::string* source) {
   } else if (cfg.camera_given) {
     from = "config " + cfg.file.string();
   } else if (const auto carried = o.source ? o.source->camera() : std::nullopt) {
-    cfg.camera = from_source(*carried, cfg.camera);
+    cfg.camera = camera_from_source(*carried, cfg.camera);
     from = carried->origin;
   } else if (const fs::path folder = data_folder(o);
              !folder.empty() && fs::exists(folder / "settings.yaml")) {
@@ -58,8 +52,11 @@ config::Config resolve_config(const RunOptions& o, std::string* source) {
   } else {
     // TUM folder and bag names carry the sensor: rgbd_dataset_freiburg3_walking_xyz(.bag).
     const fs::path named = o.source ? o.source->path() : o.sequence;
-    std::string name = fs::absolute(named).lexically_normal().filename().string();
-    if (name.empty()) name = fs::absolute(named).lexically_normal().parent_path().filename().string();
+    std::string name;
+    if (!named.empty()) {
+      name = fs::absolute(named).lexically_normal().filename().string();
+      if (name.empty()) name = fs::absolute(named).lexically_normal().parent_path().filename().string();
+    }
     const std::size_t at = name.find("freiburg");
     const char sensor = at != std::string::npos && at + 8 < name.size() ? name[at + 8] : '\0';
     if (sensor >= '1' && sensor <= '3') {

@@ -66,6 +66,11 @@ struct RunOptions {
 // name, else the default (tum3). `source` says which was used.
 [[nodiscard]] config::Config resolve_config(const RunOptions& options, std::string* source = nullptr);
 
+// A carried camera (a bag's or a topic's camera_info) over `base`: the sensor's intrinsics,
+// distortion and size; base's depth settings stay (a camera_info has none).
+[[nodiscard]] camera::PinholeCamera camera_from_source(const io::SourceCamera& source,
+                                                       camera::PinholeCamera base);
+
 // Segmentation presets for --segmenter (the config's `segmentation` section supplies the
 // schedule and dilation):
 //   none          no segmentation

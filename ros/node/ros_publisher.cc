@@ -1,0 +1,236 @@
+#include "ros_publisher.h"
+
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+#include <std_msgs/String.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "lrd/system.h"
+#include "lrd_ros/image_messages.h"
+
+namespace lrd_ros {
+
+namespace {
+
+geometry_msgs::Pose pose_message(const Eigen::Isometry3d& T) {
+  geometry_msgs::Pose p;
+  const Eigen::Quaterniond q(T.linear());
+  p.position.x = T.translation().x();
+  p.position.y = T.translation().y();
+  p.position.z = T.translation().z();
+  p.orientation.x = q.x();
+  p.orientation.y = q.y();
+  p.orientation.z = q.z();
+  p.orientation.w = q.w();
+  return p;
+}
+
+// The frame in grey, the dynamic mask tinted blue, the keypoints tracking kept in green and those
+// the geometry check removed in red.
+cv::Mat overlay_image(const lrd::events::FrameTracked& e) {
+  cv::Mat bgr;
+  cv::cvtColor(e.grey, bgr, cv::COLOR_GRAY2BGR);
+  if (!e.mask.empty()) {
+    cv::Mat tinted = bgr.clone();
+    tinted.setTo(cv::Scalar(255, 64, 0), e.mask);
+    cv::addWeighted(bgr, 0.55, tinted, 0.45, 0.0, bgr);
+  }
+  for (const cv::Point2f& p : e.kept_keypoints) cv::circle(bgr, p, 3, cv::Scalar(0, 220, 0), 1, cv::LINE_AA);
+  for (const cv::Point2f& p : e.removed_keypoints)
+    cv::circle(bgr, p, 3, cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
+  return bgr;
+}
+
+sensor_msgs::PointCloud2 cloud_message(std::size_t n, bool colour, const std::string& frame) {
+  sensor_msgs::PointCloud2 cloud;
+  cloud.header.frame_id = frame;
+  cloud.header.stamp = ros::Time::now();
+  sensor_msgs::PointCloud2Modifier modifier(cloud);
+  if (colour)
+    modifier.setPointCloud2FieldsByString(2, "xyz", "rgb");
+  else
+    modifier.setPointCloud2FieldsByString(1, "xyz");
+  modifier.resize(n);
+  return cloud;
+}
+
+// A keyframe as a small camera frustum (rviz: LINE_LIST).
+void add_frustum(visualization_msgs::Marker& m, const Eigen::Isometry3d& T) {
+  constexpr double w = 0.05, h = 0.0375, z = 0.04;
+  const Eigen::Vector3d c = T.translation();
+  const Eigen::Vector3d corners[4] = {T * Eigen::Vector3d(-w, -h, z), T * Eigen::Vector3d(w, -h, z),
+                                      T * Eigen::Vector3d(w, h, z), T * Eigen::Vector3d(-w, h, z)};
+  const auto point = [](const Eigen::Vector3d& v) {
+    geometry_msgs::Point p;
+    p.x = v.x();
+    p.y = v.y();
+    p.z = v.z();
+    return p;
+  };
+  for (int i = 0; i < 4; ++i) {
+    m.points.push_back(point(c));
+    m.points.push_back(point(corners[i]));
+    m.points.push_back(point(corners[i]));
+    m.points.push_back(point(corners[(i + 1) % 4]));
+  }
+}
+
+}  // namespace
+
+RosPublisher::RosPublisher(ros::NodeHandle& node, PublisherSettings settings)
+    : settings_(std::move(settings)),
+      pose_(node.advertise<geometry_msgs::PoseStamped>("pose", 10)),
+      path_(node.advertise<nav_msgs::Path>("path", 1, true)),
+      map_points_(node.advertise<sensor_msgs::PointCloud2>("map_points", 1, true)),
+      keyframes_(node.advertise<visualization_msgs::MarkerArray>("keyframes", 1, true)),
+      dense_map_(node.advertise<sensor_msgs::PointCloud2>("dense_map", 1, true)),
+      mask_(node.advertise<sensor_msgs::Image>("dynamic_mask", 2)),
+      overlay_(node.advertise<sensor_msgs::Image>("overlay", 2)),
+      state_(node.advertise<std_msgs::String>("state", 1, true)) {
+  path_message_.header.frame_id = settings_.map_frame;
+}
+
+void RosPublisher::attach(const lrd::System* system, const std::string& image_frame) {
+  system_ = system;
+  camera_frame_ = settings_.camera_frame.empty() ? image_frame : settings_.camera_frame;
+  if (camera_frame_.empty()) camera_frame_ = "camera";
+}
+
+void RosPublisher::publish_result(double timestamp, const lrd::TrackResult& r) {
+  publish_state(std::string(lrd::tracking::to_string(r.state)));
+  if (!r.T_wc) return;
+  geometry_msgs::PoseStamped pose;
+  pose.header.stamp = to_stamp(timestamp);
+  pose.header.frame_id = settings_.map_frame;
+  pose.pose = pose_message(*r.T_wc);
+  pose_.publish(pose);
+
+  geometry_msgs::TransformStamped t;
+  t.header = pose.header;
+  t.child_frame_id = camera_frame_;
+  t.transform.translation.x = pose.pose.position.x;
+  t.transform.translation.y = pose.pose.position.y;
+  t.transform.translation.z = pose.pose.position.z;
+  t.transform.rotation = pose.pose.orientation;
+  tf_.sendTransform(t);
+
+  std::lock_guard lock(path_mutex_);
+  path_message_.header.stamp = pose.header.stamp;
+  path_message_.poses.push_back(pose);
+  path_.publish(path_message_);
+}
+
+void RosPublisher::on_frame(const lrd::events::FrameTracked& e) {
+  if (e.grey.empty()) return;
+  const ros::Time stamp = to_stamp(e.timestamp);
+  if (mask_.getNumSubscribers() > 0) {
+    const cv::Mat mask = e.mask.empty() ? cv::Mat::zeros(e.grey.size(), CV_8UC1) : e.mask;
+    cv::Mat binary;
+    cv::compare(mask, 0, binary, cv::CMP_GT);  // 255 = dynamic
+    mask_.publish(image_message(binary, stamp, camera_frame_));
+  }
+  if (overlay_.getNumSubscribers() > 0)
+    overlay_.publish(image_message(overlay_image(e), stamp, camera_frame_));
+}
+
+void RosPublisher::publish_state(const std::string& state) {
+  if (state == last_state_) return;
+  last_state_ = state;
+  std_msgs::String m;
+  m.data = state;
+  state_.publish(m);
+}
+
+void RosPublisher::on_loop(const lrd::events::LoopClosed& /*e*/) {
+  if (system_ == nullptr) return;
+  publish_path(system_->trajectory());
+  publish_map();
+}
+
+void RosPublisher::on_map_changed(const lrd::events::MapChanged& /*e*/) {
+  const auto now = Clock::now();
+  if (last_map_ && std::chrono::duration<double>(now - *last_map_).count() < settings_.map_period_s) return;
+  last_map_ = now;
+  publish_map();
+}
+
+void RosPublisher::on_dense_map(const lrd::events::DenseMapUpdated& /*e*/) {
+  const auto now = Clock::now();
+  if (last_dense_ && std::chrono::duration<double>(now - *last_dense_).count() < settings_.dense_period_s)
+    return;
+  last_dense_ = now;
+  publish_dense_map();
+}
+
+void RosPublisher::publish_path(const lrd::io::Trajectory& trajectory) {
+  std::lock_guard lock(path_mutex_);
+  path_message_.poses.clear();
+  for (const lrd::io::StampedPose& p : trajectory) {
+    geometry_msgs::PoseStamped pose;
+    pose.header.stamp = to_stamp(p.timestamp);
+    pose.header.frame_id = settings_.map_frame;
+    pose.pose = pose_message(p.pose);
+    path_message_.poses.push_back(pose);
+  }
+  if (!path_message_.poses.empty()) path_message_.header.stamp = path_message_.poses.back().header.stamp;
+  path_.publish(path_message_);
+}
+
+void RosPublisher::publish_map() {
+  if (system_ == nullptr) return;
+  const lrd::events::MapSnapshot map = system_->map_snapshot();
+  sensor_msgs::PointCloud2 cloud = cloud_message(map.points.size(), false, settings_.map_frame);
+  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
+  for (const lrd::events::MapPointSnapshot& p : map.points) {
+    *x = static_cast<float>(p.position.x());
+    *y = static_cast<float>(p.position.y());
+    *z = static_cast<float>(p.position.z());
+    ++x, ++y, ++z;
+  }
+  map_points_.publish(cloud);
+
+  visualization_msgs::Marker m;
+  m.header.frame_id = settings_.map_frame;
+  m.header.stamp = cloud.header.stamp;
+  m.ns = "keyframes";
+  m.type = visualization_msgs::Marker::LINE_LIST;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = 0.005;
+  m.color.b = 1.0f;
+  m.color.a = 1.0f;
+  for (const lrd::events::KeyframePose& k : map.keyframes) add_frustum(m, k.T_wc);
+  visualization_msgs::MarkerArray markers;
+  markers.markers.push_back(m);
+  keyframes_.publish(markers);
+}
+
+void RosPublisher::publish_dense_map() {
+  if (system_ == nullptr || !system_->dense_enabled()) return;
+  const lrd::dense::PointCloud dense = system_->dense_map();
+  const bool colour = dense.colours.size() == dense.points.size();
+  sensor_msgs::PointCloud2 cloud = cloud_message(dense.size(), colour, settings_.map_frame);
+  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
+  for (std::size_t i = 0; i < dense.size(); ++i, ++x, ++y, ++z) {
+    *x = dense.points[i].x();
+    *y = dense.points[i].y();
+    *z = dense.points[i].z();
+  }
+  if (colour) {
+    sensor_msgs::PointCloud2Iterator<std::uint8_t> r(cloud, "r"), g(cloud, "g"), b(cloud, "b");
+    for (std::size_t i = 0; i < dense.size(); ++i, ++r, ++g, ++b) {
+      *b = dense.colours[i][0];
+      *g = dense.colours[i][1];
+      *r = dense.colours[i][2];
+    }
+  }
+  dense_map_.publish(cloud);
+}
+
+}  // namespace lrd_ros

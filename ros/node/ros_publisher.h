@@ -1,0 +1,73 @@
+#pragma once
+// The node's view of the system: an events::Subscriber (lrd/events) that turns the system's
+// events into ROS topics on the node's private namespace. It runs on the system's publisher
+// thread, so nothing here is timed as tracking; it reads the system only through its thread-safe
+// queries (trajectory, map_snapshot, dense_map). The per-frame results a robot acts on (pose, tf,
+// path, state) come from the tracking thread's result instead (publish_result): the publisher
+// drops frame events when it falls behind, and a pose must never be dropped.
+#include <nav_msgs/Path.h>
+#include <ros/node_handle.h>
+#include <ros/publisher.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "lrd/events/event_publisher.h"
+#include "lrd/io/trajectory.h"
+#include "lrd/system.h"
+
+namespace lrd_ros {
+
+struct PublisherSettings {
+  std::string map_frame = "map";
+  std::string camera_frame;     // "" : the images' frame_id
+  double map_period_s = 1.0;    // map_points and keyframes at most this often
+  double dense_period_s = 5.0;  // dense_map at most this often (it merges every keyframe's cloud)
+};
+
+class RosPublisher final : public lrd::events::Subscriber {
+ public:
+  RosPublisher(ros::NodeHandle& private_node, PublisherSettings settings);
+
+  // Before the first frame: the system it may query, and the images' frame_id (the camera frame
+  // when ~camera_frame is not set).
+  void attach(const lrd::System* system, const std::string& image_frame);
+
+  // The tracking thread, after each frame: pose, tf and path when tracked, state on change.
+  void publish_result(double timestamp, const lrd::TrackResult& result);
+
+  // Mask and overlay images (dropped with the frame event when the publisher is behind).
+  void on_frame(const lrd::events::FrameTracked& e) override;
+  void on_loop(const lrd::events::LoopClosed& e) override;
+  void on_map_changed(const lrd::events::MapChanged& e) override;
+  void on_dense_map(const lrd::events::DenseMapUpdated& e) override;
+
+  // `path` = this trajectory (after a loop closure, and when the trajectory is saved, so the last
+  // path and the saved file agree). Any thread.
+  void publish_path(const lrd::io::Trajectory& trajectory);
+  // The sparse map and keyframes now, and (with the dense stage) the dense map.
+  void publish_map();
+  void publish_dense_map();
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void publish_state(const std::string& state);
+
+  const PublisherSettings settings_;
+  const lrd::System* system_ = nullptr;
+  std::string camera_frame_;
+  ros::Publisher pose_, path_, map_points_, keyframes_, dense_map_, mask_, overlay_, state_;
+  tf2_ros::TransformBroadcaster tf_;
+
+  std::mutex path_mutex_;  // the service thread republishes the path too
+  nav_msgs::Path path_message_;
+
+  std::string last_state_;
+  std::optional<Clock::time_point> last_map_, last_dense_;
+};
+
+}  // namespace lrd_ros

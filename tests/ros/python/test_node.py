@@ -1,0 +1,241 @@
+"""lrdslam_ros against the real ROS tools (issue 19, items 3-5): our own roscore, `rosbag play` of
+a synthetic TUM-style bag, the node, and rospy subscribers here. Asserts the pose topic's accuracy
+against the bag's ground truth, the published topics' types and rates, the saved trajectory
+against the last path, malformed messages dropped and counted, and a clean exit on SIGINT."""
+import json
+import os
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from cli import lrdslam
+from rosenv import Node, RosMaster, play
+
+FRAMES = 150
+# Playback slower than the camera leaves an ASan build time to track most frames (the node drops
+# the oldest beyond its queue either way).
+RATE = float(os.environ.get("LRDSLAM_ROS_TEST_RATE", "0.5"))
+
+
+@pytest.fixture(scope="module")
+def master(tmp_path_factory):
+    m = RosMaster(tmp_path_factory.mktemp("roshome")).start()
+    import rospy
+
+    rospy.init_node("lrdslam_test", anonymous=True, disable_signals=True)
+    yield m
+    rospy.signal_shutdown("tests done")
+    m.stop()
+
+
+@pytest.fixture(scope="module")
+def sequence(tmp_path_factory):
+    d = tmp_path_factory.mktemp("nodeseq")
+    lrdslam("synth", "--preset", "walking_xyz", "--frames", FRAMES, "--out", d / "seq", "--bag", d / "seq.bag")
+    return d / "seq", d / "seq.bag"
+
+
+class Recorder:
+    """Every message of the node's topics, as rospy delivers them."""
+
+    TOPICS = {
+        "pose": "geometry_msgs/PoseStamped",
+        "path": "nav_msgs/Path",
+        "state": "std_msgs/String",
+        "dynamic_mask": "sensor_msgs/Image",
+        "overlay": "sensor_msgs/Image",
+        "map_points": "sensor_msgs/PointCloud2",
+        "keyframes": "visualization_msgs/MarkerArray",
+    }
+
+    def __init__(self):
+        import rospy
+        from geometry_msgs.msg import PoseStamped
+        from nav_msgs.msg import Path
+        from sensor_msgs.msg import Image, PointCloud2
+        from std_msgs.msg import String
+        from visualization_msgs.msg import MarkerArray
+
+        types = {"pose": PoseStamped, "path": Path, "state": String, "dynamic_mask": Image, "overlay": Image,
+                 "map_points": PointCloud2, "keyframes": MarkerArray}
+        self.lock = threading.Lock()
+        self.messages = {t: [] for t in types}
+        self.types = {}
+        self.subscribers = [
+            rospy.Subscriber(f"/lrdslam/{t}", cls, self._record, callback_args=t, queue_size=1000)
+            for t, cls in types.items()
+        ]
+
+    def _record(self, message, topic):
+        with self.lock:
+            self.messages[topic].append(message)
+            self.types[topic] = message._type
+
+    def connected(self):
+        return all(s.get_num_connections() > 0 for s in self.subscribers)
+
+    def close(self):
+        for s in self.subscribers:
+            s.unregister()
+
+
+def wait_for(predicate, timeout, what):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        if predicate():
+            return
+        time.sleep(0.1)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+def pose_row(stamp, p):
+    return (f"{stamp.to_sec():.6f} {p.position.x:.9f} {p.position.y:.9f} {p.position.z:.9f} "
+            f"{p.orientation.x:.9f} {p.orientation.y:.9f} {p.orientation.z:.9f} {p.orientation.w:.9f}")
+
+
+def test_the_node_tracks_a_bag_and_publishes_what_rviz_shows(master, sequence, tmp_path):
+    folder, bag = sequence
+    out = tmp_path / "out"
+    node = Node(master, tmp_path / "node.log", mode="full", segmenter="fnet", output_dir=out, queue_size=4)
+    recorder = Recorder()
+    try:
+        node.wait_ready()
+        wait_for(recorder.connected, 30, "the node's publishers")
+        play(master, bag, RATE)
+        time.sleep(3)  # the last queued frames
+        import rospy
+        from std_srvs.srv import Trigger
+
+        rospy.wait_for_service("/lrdslam/save_trajectory", timeout=10)
+        saved = rospy.ServiceProxy("/lrdslam/save_trajectory", Trigger)()
+        assert saved.success, saved.message
+        time.sleep(1)  # the republished path
+        status = node.interrupt()
+    finally:
+        node.kill()
+        recorder.close()
+    assert status == 0, node.output()
+    summary = json.loads((out / "node_summary.json").read_text())
+    poses = recorder.messages["pose"]
+
+    # Accuracy: the pose topic as recorded, against the bag's ground truth.
+    assert summary["received"] >= FRAMES - 2, summary
+    assert summary["tracked"] >= FRAMES // 3, summary
+    assert summary["malformed"] == 0 and summary["no_camera"] == 0
+    est = tmp_path / "poses.txt"
+    est.write_text("".join(pose_row(m.header.stamp, m.pose) + "\n" for m in poses))
+    r = lrdslam("eval", folder / "groundtruth.txt", est, "--json", "-")
+    ate = json.loads(r.stdout[r.stdout.index("{"):])["ate"]
+    assert ate["pairs"] == len(poses) == summary["tracked"]
+    assert ate["rmse"] < 0.02
+
+    # Types and rates: one pose per tracked frame, mask and overlay per frame the publisher keeps
+    # up with (it drops the oldest frame events when behind), a latched state on change, the map
+    # throttled.
+    for topic, expected in Recorder.TOPICS.items():
+        assert recorder.types.get(topic) == expected, topic
+    assert all(m.header.frame_id == "map" for m in poses)
+    assert summary["tracked"] // 2 <= len(recorder.messages["dynamic_mask"]) <= summary["tracked"]
+    assert len(recorder.messages["overlay"]) == len(recorder.messages["dynamic_mask"])
+    mask, overlay = recorder.messages["dynamic_mask"][-1], recorder.messages["overlay"][-1]
+    assert (mask.encoding, mask.width, mask.height) == ("mono8", 640, 480)
+    assert (overlay.encoding, overlay.width, overlay.height) == ("rgb8", 640, 480)
+    assert 0 < np.count_nonzero(np.frombuffer(mask.data, np.uint8)) < 640 * 480  # people are masked
+    assert [m.data for m in recorder.messages["state"]][-1] == "ok"
+    assert 1 <= len(recorder.messages["map_points"]) <= len(poses) // 5
+    assert recorder.messages["map_points"][-1].width > 500
+    assert len(recorder.messages["keyframes"][-1].markers[0].points) > 0
+
+    # The last path is the trajectory the node saved (the service republishes it).
+    path = recorder.messages["path"][-1]
+    saved_rows = [l for l in (out / "CameraTrajectory.txt").read_text().splitlines() if not l.startswith("#")]
+    assert len(path.poses) == len(saved_rows) == summary["tracked"]
+    a = np.array([[float(v) for v in row.split()] for row in saved_rows])
+    b = np.array([[float(v) for v in pose_row(p.header.stamp, p.pose).split()] for p in path.poses])
+    assert np.abs(a - b).max() < 1e-6
+
+
+def test_malformed_messages_are_dropped_and_counted_without_a_crash(master, sequence, tmp_path):
+    import rospy
+    from sensor_msgs.msg import Image
+
+    folder, _ = sequence
+    out = tmp_path / "out"
+    node = Node(master, tmp_path / "node.log", settings=folder / "settings.yaml", mode="static",
+                rgb_topic="/bad/rgb", depth_topic="/bad/depth", output_dir=out)
+    rgb_pub = rospy.Publisher("/bad/rgb", Image, queue_size=50)
+    depth_pub = rospy.Publisher("/bad/depth", Image, queue_size=50)
+    try:
+        node.wait_ready()
+        wait_for(lambda: rgb_pub.get_num_connections() > 0 and depth_pub.get_num_connections() > 0, 30,
+                 "the node's subscriptions")
+
+        def image(encoding, w, h, data, stamp):
+            m = Image(encoding=encoding, width=w, height=h, step=len(data) // max(h, 1) if h else 0, data=data)
+            m.header.stamp = rospy.Time.from_sec(stamp)
+            m.header.frame_id = "camera"
+            return m
+
+        rgb = bytes(640 * 480 * 3)
+        depth = np.full((480, 640), 1.5, np.float32)
+        negative = depth.copy()
+        negative[10, 10] = -2.0
+        bad = [
+            (image("yuv422", 640, 480, bytes(640 * 480 * 2), 1), image("32FC1", 640, 480, depth.tobytes(), 1)),
+            (image("rgb8", 640, 480, rgb, 2), image("32FC1", 320, 240, depth[:240, :320].tobytes(), 2)),
+            (image("rgb8", 0, 0, b"", 3), image("32FC1", 640, 480, depth.tobytes(), 3)),
+            (image("rgb8", 640, 480, rgb, 4), image("32FC1", 640, 480, depth.tobytes()[:1000], 4)),
+            (image("rgb8", 640, 480, rgb, 5), image("32FC1", 640, 480, negative.tobytes(), 5)),
+        ]
+        good = [(image("rgb8", 640, 480, rgb, t), image("32FC1", 640, 480, depth.tobytes(), t)) for t in (6, 7, 8)]
+        for c, d in bad + good:
+            rgb_pub.publish(c)
+            depth_pub.publish(d)
+            time.sleep(0.2)
+        time.sleep(2)
+        assert node.process.poll() is None, node.output()
+        status = node.interrupt()
+    finally:
+        node.kill()
+        rgb_pub.unregister()
+        depth_pub.unregister()
+    assert status == 0, node.output()
+    summary = json.loads((out / "node_summary.json").read_text())
+    assert summary["malformed"] == 5, (summary, node.output())
+    assert summary["received"] >= 7
+    log = node.output()
+    assert "dropped a frame" in log and "encoding 'yuv422' is not a colour encoding" in log
+
+
+def test_without_a_camera_frames_wait_and_are_counted(master, tmp_path):
+    import rospy
+    from sensor_msgs.msg import Image
+
+    out = tmp_path / "out"
+    node = Node(master, tmp_path / "node.log", rgb_topic="/nocam/rgb", depth_topic="/nocam/depth",
+                camera_info_topic="/nocam/camera_info", output_dir=out)
+    rgb_pub = rospy.Publisher("/nocam/rgb", Image, queue_size=10)
+    depth_pub = rospy.Publisher("/nocam/depth", Image, queue_size=10)
+    try:
+        node.wait_ready()
+        wait_for(lambda: rgb_pub.get_num_connections() > 0 and depth_pub.get_num_connections() > 0, 30,
+                 "the node's subscriptions")
+        for t in (1, 2, 3, 4):
+            c = Image(encoding="rgb8", width=64, height=48, step=64 * 3, data=bytes(64 * 48 * 3))
+            d = Image(encoding="32FC1", width=64, height=48, step=64 * 4,
+                      data=np.ones((48, 64), np.float32).tobytes())
+            c.header.stamp = d.header.stamp = rospy.Time.from_sec(t)
+            rgb_pub.publish(c)
+            depth_pub.publish(d)
+            time.sleep(0.2)
+        time.sleep(1)
+        status = node.interrupt()
+    finally:
+        node.kill()
+    assert status == 0, node.output()
+    summary = json.loads((out / "node_summary.json").read_text())
+    assert summary["no_camera"] >= 3 and summary["tracked"] == 0, summary
+    assert "no camera yet: no camera_info on /nocam/camera_info and no ~settings" in node.output()
+    assert not (out / "CameraTrajectory.txt").exists()
