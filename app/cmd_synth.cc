@@ -34,6 +34,10 @@ void register_synth_command(CLI::App& app) {
   cmd->add_option("--frames", opts->frames,
                   "Number of frames (default: the preset's length; a prefix of it)");
   cmd->add_flag("--motion-blur", opts->motion_blur, "Average 5 sub-frames over a 1/60 s exposure");
+  cmd->add_option("--camera-speed", opts->camera_speed,
+                  "Run the preset's camera path this many times faster (e.g. static_loop at 2.5: its loop "
+                  "closes near frame 210, for short tests)")
+      ->check(CLI::Range(0.1, 10.0));
   auto blank = std::make_shared<std::string>();
   cmd->add_option(
       "--blank", *blank,

@@ -94,6 +94,21 @@ RosPublisher::RosPublisher(ros::NodeHandle& node, PublisherSettings settings)
       overlay_(node.advertise<sensor_msgs::Image>("overlay", 2)),
       state_(node.advertise<std_msgs::String>("state", 1, true)) {
   path_message_.header.frame_id = settings_.map_frame;
+  if (!settings_.world_frame.empty()) {
+    // world x = camera z (forward), world y = -camera x (left), world z = -camera y (up).
+    Eigen::Matrix3d R;
+    R << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+    const Eigen::Quaterniond q(R);
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = ros::Time::now();
+    t.header.frame_id = settings_.world_frame;
+    t.child_frame_id = settings_.map_frame;
+    t.transform.rotation.x = q.x();
+    t.transform.rotation.y = q.y();
+    t.transform.rotation.z = q.z();
+    t.transform.rotation.w = q.w();
+    static_tf_.sendTransform(t);
+  }
 }
 
 void RosPublisher::attach(const lrd::System* system, const std::string& image_frame) {

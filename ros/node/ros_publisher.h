@@ -8,6 +8,7 @@
 #include <nav_msgs/Path.h>
 #include <ros/node_handle.h>
 #include <ros/publisher.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <chrono>
@@ -24,7 +25,10 @@ namespace lrd_ros {
 
 struct PublisherSettings {
   std::string map_frame = "map";
-  std::string camera_frame;     // "" : the images' frame_id
+  std::string camera_frame;  // "" : the images' frame_id
+  // A z-up frame over the map (whose axes are the first camera's: x right, y down, z forward),
+  // published once as a static transform so rviz's orbit view has the floor below; "" : none.
+  std::string world_frame = "world";
   double map_period_s = 1.0;    // map_points and keyframes at most this often
   double dense_period_s = 5.0;  // dense_map at most this often (it merges every keyframe's cloud)
 };
@@ -62,6 +66,7 @@ class RosPublisher final : public lrd::events::Subscriber {
   std::string camera_frame_;
   ros::Publisher pose_, path_, map_points_, keyframes_, dense_map_, mask_, overlay_, state_;
   tf2_ros::TransformBroadcaster tf_;
+  tf2_ros::StaticTransformBroadcaster static_tf_;
 
   std::mutex path_mutex_;  // the service thread republishes the path too
   nav_msgs::Path path_message_;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <ros/console.h>
 
+#include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
@@ -27,6 +28,7 @@ NodeParams NodeParams::from(const ros::NodeHandle& pn) {
   pn.param("dense", p.system.dense, p.system.dense);
   pn.param("map_frame", p.publisher.map_frame, p.publisher.map_frame);
   pn.param("camera_frame", p.publisher.camera_frame, p.publisher.camera_frame);
+  pn.param("world_frame", p.publisher.world_frame, p.publisher.world_frame);
   pn.param("queue_size", p.queue_size, p.queue_size);
   std::string out = p.output_dir.string();
   pn.param("output_dir", out, out);
@@ -166,7 +168,20 @@ void SlamNode::track(Frame& f) {
 }
 
 void SlamNode::track_frames() {
+  auto last_report = std::chrono::steady_clock::now();
+  std::size_t reported = 0;
   while (auto f = frames_.pop()) {
+    // Frames dropped because tracking is slower than the camera: said every warn period.
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_report).count() >= params_.warn_period_s) {
+      const std::size_t dropped = frames_.dropped();
+      if (dropped > reported)
+        ROS_WARN(
+            "lrdslam: dropped %zu frames in the last %.0f s (%zu in all): tracking is slower than the camera",
+            dropped - reported, params_.warn_period_s, dropped);
+      reported = dropped;
+      last_report = now;
+    }
     try {
       track(*f);
     } catch (const std::exception& e) {
@@ -223,9 +238,11 @@ void SlamNode::stop() {
     counts.queue_dropped = frames_.dropped();
   }
   std::string saved = "no frames tracked";
+  std::size_t loops = 0;
   if (system_) {
     system_->system->shutdown();
     save(params_.output_dir, &saved);
+    loops = system_->system->map_stats().loops;
   }
   fs::create_directories(params_.output_dir);
   write_track_times(params_.output_dir / "track_times.txt", times_);
@@ -235,7 +252,8 @@ void SlamNode::stop() {
                                   {"no_camera", counts.no_camera},
                                   {"tracked", counts.tracked},
                                   {"lost", counts.lost},
-                                  {"not_initialized", counts.not_initialized}};
+                                  {"not_initialized", counts.not_initialized},
+                                  {"loops", loops}};
   std::ofstream(params_.output_dir / "node_summary.json") << summary.dump(2) << "\n";
   ROS_INFO(
       "lrdslam: stopped: %zu pairs received, %zu tracked, %zu lost, dropped %zu (tracking behind), %zu "

@@ -62,6 +62,25 @@ def test_writes_tum_layout_with_seed_and_frames(tmp_path):
     assert settings.startswith("%YAML:1.0") and "Camera.fx: 535.4" in settings and "DepthMapFactor: 5000" in settings
 
 
+def test_camera_speed_runs_the_camera_path_faster(tmp_path):
+    def positions(speed):
+        seq = tmp_path / f"speed{speed}"
+        args = ["synth", "--preset", "static_loop", "--frames", "40", "--out", str(seq)]
+        out = run(*args, *(["--camera-speed", str(speed)] if speed != 1 else []))
+        assert out.returncode == 0, out.stderr
+        meta = json.loads((seq / "sequence.json").read_text())
+        gt = [l.split() for l in (seq / "groundtruth.txt").read_text().splitlines() if not l.startswith("#")]
+        return meta, np.array([[float(v) for v in row[1:4]] for row in gt])
+
+    meta1, p1 = positions(1)
+    meta2, p2 = positions(2)
+    assert "camera_speed" not in meta1 and meta2["camera_speed"] == 2.0
+    path1 = np.linalg.norm(np.diff(p1, axis=0), axis=1).sum()
+    path2 = np.linalg.norm(np.diff(p2, axis=0), axis=1).sum()
+    assert 1.8 < path2 / path1 < 2.2  # twice the distance in the same frames
+    assert run("synth", "--preset", "static_loop", "--camera-speed", "0", "--out", str(tmp_path / "x")).returncode != 0
+
+
 def test_export_voc_layout_labels_and_split(tmp_path):
     voc = tmp_path / "voc"
     out = run("synth", "--export-voc", str(voc), "--images", "30")

@@ -62,8 +62,13 @@ double SyntheticSequence::depth_timestamp(int i) const {
   return timestamp(i) + 0.008 * frame_hash(options_.seed, i, 12);
 }
 
+Eigen::Isometry3d SyntheticSequence::camera_pose(double t) const {
+  // --camera-speed: the camera's clock runs faster; the people keep theirs (x 1.0 is exact).
+  return script_.camera->pose_at(t * options_.camera_speed);
+}
+
 Eigen::Isometry3d SyntheticSequence::pose(int i) const {
-  return script_.camera->pose_at(timestamp(i) - kFirstTimestamp);
+  return camera_pose(timestamp(i) - kFirstTimestamp);
 }
 
 SynthFrame SyntheticSequence::render(int i) const {
@@ -73,10 +78,10 @@ SynthFrame SyntheticSequence::render(int i) const {
   f.timestamp = timestamp(i);
   f.depth_timestamp = depth_timestamp(i);
   const double t = f.timestamp - kFirstTimestamp;
-  f.pose = script_.camera->pose_at(t);
+  f.pose = camera_pose(t);
 
   auto render_at = [&](double time, RenderBuffers& static_pass, RenderBuffers& full_pass) {
-    const Eigen::Isometry3f T_wc = script_.camera->pose_at(time).cast<float>();
+    const Eigen::Isometry3f T_wc = camera_pose(time).cast<float>();
     static_pass = rasterizer_->make_buffers();
     rasterizer_->draw(room_.triangles(), T_wc, static_pass);
     full_pass = static_pass.clone();

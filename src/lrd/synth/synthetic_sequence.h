@@ -27,6 +27,9 @@ struct SynthOptions {
   // camera keeps moving meanwhile, so tracking is lost and must relocalize when the view returns.
   int blank_from = -1;
   int blank_count = 0;
+  // The camera runs the preset's path this many times faster (e.g. static_loop's two laps in
+  // 400 frames at 2.5: a loop closes within a short test); 1 is the benchmark.
+  double camera_speed = 1.0;
   [[nodiscard]] bool blanked(int i) const {
     return blank_from >= 0 && i >= blank_from && i < blank_from + blank_count;
   }
@@ -72,6 +75,7 @@ class SyntheticSequence {
   static std::shared_ptr<const TextureLibrary> load_textures();
 
  private:
+  [[nodiscard]] Eigen::Isometry3d camera_pose(double t) const;  // t: seconds from the first frame
   SynthOptions options_;
   const PresetSpec& spec_;
   int frames_;

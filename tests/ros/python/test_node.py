@@ -48,6 +48,7 @@ class Recorder:
         "overlay": "sensor_msgs/Image",
         "map_points": "sensor_msgs/PointCloud2",
         "keyframes": "visualization_msgs/MarkerArray",
+        "dense_map": "sensor_msgs/PointCloud2",  # with ~dense only
     }
 
     def __init__(self):
@@ -59,7 +60,7 @@ class Recorder:
         from visualization_msgs.msg import MarkerArray
 
         types = {"pose": PoseStamped, "path": Path, "state": String, "dynamic_mask": Image, "overlay": Image,
-                 "map_points": PointCloud2, "keyframes": MarkerArray}
+                 "map_points": PointCloud2, "keyframes": MarkerArray, "dense_map": PointCloud2}
         self.lock = threading.Lock()
         self.messages = {t: [] for t in types}
         self.types = {}
@@ -93,6 +94,18 @@ def wait_for(predicate, timeout, what):
 def pose_row(stamp, p):
     return (f"{stamp.to_sec():.6f} {p.position.x:.9f} {p.position.y:.9f} {p.position.z:.9f} "
             f"{p.orientation.x:.9f} {p.orientation.y:.9f} {p.orientation.z:.9f} {p.orientation.w:.9f}")
+
+
+def same_poses(rows, poses):
+    """TUM rows and PoseStamped messages: same stamps and poses (a quaternion and its negative are
+    the same rotation)."""
+    a = np.array([[float(v) for v in row.split()] for row in rows])
+    b = np.array([[float(v) for v in pose_row(p.header.stamp, p.pose).split()] for p in poses])
+    if a.shape != b.shape:
+        return False
+    flip = np.sign(np.sum(a[:, 4:] * b[:, 4:], axis=1, keepdims=True))
+    b[:, 4:] *= flip
+    return np.abs(a - b).max() < 1e-6
 
 
 def test_the_node_tracks_a_bag_and_publishes_what_rviz_shows(master, sequence, tmp_path):
@@ -131,13 +144,13 @@ def test_the_node_tracks_a_bag_and_publishes_what_rviz_shows(master, sequence, t
     assert ate["pairs"] == len(poses) == summary["tracked"]
     assert ate["rmse"] < 0.02
 
-    # Types and rates: one pose per tracked frame, mask and overlay per frame the publisher keeps
-    # up with (it drops the oldest frame events when behind), a latched state on change, the map
-    # throttled.
+    # Types and rates: one pose per tracked frame; a mask and an overlay per frame the publisher
+    # keeps up with (it drops the oldest frame events when behind: under ASan and a loaded
+    # machine, most); a latched state on change; the map throttled.
     for topic, expected in Recorder.TOPICS.items():
-        assert recorder.types.get(topic) == expected, topic
+        assert recorder.types.get(topic) == (None if topic == "dense_map" else expected), topic
     assert all(m.header.frame_id == "map" for m in poses)
-    assert summary["tracked"] // 2 <= len(recorder.messages["dynamic_mask"]) <= summary["tracked"]
+    assert 0 < len(recorder.messages["dynamic_mask"]) <= summary["tracked"]
     assert len(recorder.messages["overlay"]) == len(recorder.messages["dynamic_mask"])
     mask, overlay = recorder.messages["dynamic_mask"][-1], recorder.messages["overlay"][-1]
     assert (mask.encoding, mask.width, mask.height) == ("mono8", 640, 480)
@@ -152,9 +165,7 @@ def test_the_node_tracks_a_bag_and_publishes_what_rviz_shows(master, sequence, t
     path = recorder.messages["path"][-1]
     saved_rows = [l for l in (out / "CameraTrajectory.txt").read_text().splitlines() if not l.startswith("#")]
     assert len(path.poses) == len(saved_rows) == summary["tracked"]
-    a = np.array([[float(v) for v in row.split()] for row in saved_rows])
-    b = np.array([[float(v) for v in pose_row(p.header.stamp, p.pose).split()] for p in path.poses])
-    assert np.abs(a - b).max() < 1e-6
+    assert same_poses(saved_rows, path.poses)
 
 
 def test_malformed_messages_are_dropped_and_counted_without_a_crash(master, sequence, tmp_path):
@@ -205,6 +216,9 @@ def test_malformed_messages_are_dropped_and_counted_without_a_crash(master, sequ
     summary = json.loads((out / "node_summary.json").read_text())
     assert summary["malformed"] == 5, (summary, node.output())
     assert summary["received"] >= 7
+    # SIGINT wrote the trajectory of the good frames (nothing else saved it).
+    rows = [l for l in (out / "CameraTrajectory.txt").read_text().splitlines() if not l.startswith("#")]
+    assert len(rows) == summary["tracked"]
     log = node.output()
     assert "dropped a frame" in log and "encoding 'yuv422' is not a colour encoding" in log
 
@@ -239,3 +253,68 @@ def test_without_a_camera_frames_wait_and_are_counted(master, tmp_path):
     assert summary["no_camera"] >= 3 and summary["tracked"] == 0, summary
     assert "no camera yet: no camera_info on /nocam/camera_info and no ~settings" in node.output()
     assert not (out / "CameraTrajectory.txt").exists()
+
+
+def test_after_a_loop_closure_the_path_is_corrected_and_matches_the_saved_trajectory(master, tmp_path):
+    import rospy
+    from std_srvs.srv import Trigger
+
+    # static_loop with the camera 2.5x faster: its two laps in 400 frames, the loop near frame 210.
+    d = tmp_path / "loop"
+    lrdslam("synth", "--preset", "static_loop", "--camera-speed", 2.5, "--frames", 250, "--out", d,
+            "--bag", tmp_path / "loop.bag")
+    out = tmp_path / "out"
+    node = Node(master, tmp_path / "node.log", mode="static", dense="true", output_dir=out, queue_size=4)
+    recorder = Recorder()
+    try:
+        node.wait_ready()
+        wait_for(recorder.connected, 30, "the node's publishers")
+        play(master, tmp_path / "loop.bag", RATE)
+        time.sleep(3)
+        saved = rospy.ServiceProxy("/lrdslam/save_trajectory", Trigger)()
+        assert saved.success, saved.message
+        time.sleep(1)
+        status = node.interrupt()
+    finally:
+        node.kill()
+        recorder.close()
+    (tmp_path / "loop.bag").unlink()  # 0.5 GB
+    assert status == 0, node.output()
+    summary = json.loads((out / "node_summary.json").read_text())
+    assert summary["loops"] >= 1, (summary, node.output())
+
+    # The loop republished the path corrected: some path message moves a pose the pose topic had
+    # published for the same frame.
+    published = {m.header.stamp.to_nsec(): m.pose.position for m in recorder.messages["pose"]}
+
+    def moved(path):
+        return max((abs(p.pose.position.x - published[p.header.stamp.to_nsec()].x) +
+                    abs(p.pose.position.y - published[p.header.stamp.to_nsec()].y) +
+                    abs(p.pose.position.z - published[p.header.stamp.to_nsec()].z)
+                    for p in path.poses if p.header.stamp.to_nsec() in published), default=0.0)
+
+    assert any(moved(p) > 1e-4 for p in recorder.messages["path"][:-1])
+    # And the last path is the trajectory saved.
+    path = recorder.messages["path"][-1]
+    rows = [l for l in (out / "CameraTrajectory.txt").read_text().splitlines() if not l.startswith("#")]
+    assert len(path.poses) == len(rows) == summary["tracked"]
+    assert same_poses(rows, path.poses)
+    # Frames dropped under load (ASan, the other tests) cost some accuracy; the static scene keeps
+    # it to centimetres.
+    ate = json.loads(lrdslam("eval", d / "groundtruth.txt", out / "CameraTrajectory.txt", "--json", "-").stdout)
+    assert ate["ate"]["rmse"] < 0.03
+
+    # The dense stage's map, latched: coloured points.
+    dense = recorder.messages["dense_map"]
+    assert dense and dense[-1].width > 10000
+    assert [f.name for f in dense[-1].fields] == ["x", "y", "z", "rgb"]
+
+
+def test_a_bad_parameter_stops_the_node_with_one_line(master, tmp_path):
+    node = Node(master, tmp_path / "node.log", queue_size=0, output_dir=tmp_path / "out")
+    try:
+        status = node.process.wait(timeout=60)
+    finally:
+        node.kill()
+    assert status == 1
+    assert "~queue_size must be 1..1000, got 0" in node.output()
