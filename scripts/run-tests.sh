@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Sets up a fresh Debian bookworm machine and runs every test (GoogleTest through ctest, and the
-# Python tests, which ctest runs with /usr/bin/python3 -m pytest) under ASan + UBSan. It also
-# builds the release preset, so the benchmarks (which the asan preset leaves out) compile cleanly.
+# Python tests, which ctest runs with /usr/bin/python3 -m pytest) under ASan + UBSan, then the
+# threaded tests under ThreadSanitizer (the tsan preset: System runs, segmentation, dense mapping,
+# loop closing with global BA, the prefetcher, the work queue, the publisher). It also builds the
+# release preset, so the benchmarks (which the asan preset leaves out) compile cleanly.
 # Usage: scripts/run-tests.sh            (what CI runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,4 +16,7 @@ cmake --build --preset asan -j "$(nproc)"
 cmake --preset release
 cmake --build --preset release -j "$(nproc)"
 ctest --preset asan
+cmake --preset tsan
+cmake --build --preset tsan -j "$(nproc)"
+ctest --preset tsan
 bash scripts/check-install.sh

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     lrd_ros::SlamNode slam(node, private_node);
     ros::spin();
     slam.stop();
+    if (slam.failed()) return 1;
   } catch (const std::exception& e) {
     ROS_FATAL("lrdslam: %s", e.what());
     return 1;

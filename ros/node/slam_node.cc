@@ -187,6 +187,7 @@ void SlamNode::track_frames() {
     } catch (const std::exception& e) {
       // A worker thread failed, or settings the node cannot run with: nothing to go on with.
       ROS_FATAL("lrdslam: %s", e.what());
+      failed_ = true;
       ros::shutdown();
       return;
     }

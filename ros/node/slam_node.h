@@ -57,6 +57,8 @@ class SlamNode {
   // Tracks what is queued, stops the system's threads, writes CameraTrajectory.txt,
   // KeyFrameTrajectory.txt, track_times.txt and node_summary.json to ~output_dir. Idempotent.
   void stop();
+  // The tracking thread met an error it cannot go on from (it logged it and shut ROS down).
+  [[nodiscard]] bool failed() const { return failed_.load(); }
 
  private:
   struct Frame {
@@ -90,6 +92,7 @@ class SlamNode {
   mutable std::mutex system_mutex_;  // the system is made by the tracking thread at the first frame
   std::unique_ptr<NodeSystem> system_;
   std::atomic<bool> reset_requested_{false};
+  std::atomic<bool> failed_{false};
   double last_timestamp_ = -1.0;
 
   mutable std::mutex counts_mutex_;
