@@ -125,7 +125,9 @@ lrd::io::Trajectory read_ground_truth(const rosbag::Bag& bag, const fs::path& fi
   rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{"/tf", "/tf_static"}));
   if (view.size() == 0) throw file_error(file, "--gt-from-tf: the bag has no /tf messages");
   const std::string parent = without_slash(t.gt_parent), child = without_slash(t.gt_child);
-  tf2::BufferCore buffer(ros::Duration((view.getEndTime() - view.getBeginTime()).toSec() + 60.0));
+  // The cache must hold the whole bag by header stamps, which need not follow the record times
+  // (re-recorded bags, simulated time): ten years.
+  tf2::BufferCore buffer(ros::Duration(3.2e8));
   std::map<std::string, std::string> parent_of;
   std::map<std::string, std::vector<ros::Time>> dynamic_stamps;  // child frame -> stamps on /tf
   for (const rosbag::MessageInstance& m : view) {

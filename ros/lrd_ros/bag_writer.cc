@@ -51,7 +51,11 @@ void write_bag(const lrd::io::FrameSource& source, const lrd::camera::PinholeCam
         bag.write("/tf", to_stamp(p.timestamp), transform_message(p, layout));
     bag.close();
   } catch (const rosbag::BagException& e) {
+    std::filesystem::remove(file);
     throw lrd::file_error(file, std::string("cannot write the bag: ") + e.what());
+  } catch (...) {
+    std::filesystem::remove(file);  // no half-written bag left behind (a frame failed to load)
+    throw;
   }
 }
 

@@ -23,6 +23,9 @@ void check_layout(const sensor_msgs::Image& m, int bytes_per_pixel, int bytes_pe
   if (m.step < row)
     throw lrd::Error(fmt::format("step {} is shorter than a row of {} {} pixels ({} bytes)", m.step, m.width,
                                  m.encoding, row));
+  if (m.step % static_cast<std::uint32_t>(bytes_per_channel) != 0)
+    throw lrd::Error(
+        fmt::format("step {} is not a whole number of {}-byte values", m.step, bytes_per_channel));
   if (m.data.size() < static_cast<std::size_t>(m.step) * m.height)
     throw lrd::Error(
         fmt::format("{} bytes of data for {} rows of {} bytes", m.data.size(), m.height, m.step));
@@ -58,7 +61,9 @@ void copy_rows(const cv::Mat& image, sensor_msgs::Image& m) {
 }  // namespace
 
 double to_seconds(const ros::Time& stamp) {
-  const std::string text = fmt::format("{}.{:09d}", stamp.sec, stamp.nsec);
+  // A message's raw fields may carry nsec >= 1e9 (ros::Time normalises only what it computes).
+  const std::uint64_t sec = stamp.sec + stamp.nsec / 1000000000u;
+  const std::string text = fmt::format("{}.{:09d}", sec, stamp.nsec % 1000000000u);
   return std::strtod(text.c_str(), nullptr);
 }
 

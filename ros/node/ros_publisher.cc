@@ -135,9 +135,14 @@ void RosPublisher::publish_result(double timestamp, const lrd::TrackResult& r) {
   t.transform.rotation = pose.pose.orientation;
   tf_.sendTransform(t);
 
+  // The path grows with the run: re-sent at most once a period, so its cost per frame stays flat.
   std::lock_guard lock(path_mutex_);
   path_message_.header.stamp = pose.header.stamp;
   path_message_.poses.push_back(pose);
+  const auto now = Clock::now();
+  if (last_path_ && std::chrono::duration<double>(now - *last_path_).count() < settings_.path_period_s)
+    return;
+  last_path_ = now;
   path_.publish(path_message_);
 }
 
@@ -164,7 +169,9 @@ void RosPublisher::publish_state(const std::string& state) {
 
 void RosPublisher::on_loop(const lrd::events::LoopClosed& /*e*/) {
   if (system_ == nullptr) return;
-  publish_path(system_->trajectory());
+  lrd::io::Trajectory trajectory;
+  shared([&] { trajectory = system_->trajectory(); });
+  publish_path(trajectory);
   publish_map();
 }
 
@@ -194,12 +201,14 @@ void RosPublisher::publish_path(const lrd::io::Trajectory& trajectory) {
     path_message_.poses.push_back(pose);
   }
   if (!path_message_.poses.empty()) path_message_.header.stamp = path_message_.poses.back().header.stamp;
+  last_path_ = Clock::now();
   path_.publish(path_message_);
 }
 
 void RosPublisher::publish_map() {
   if (system_ == nullptr) return;
-  const lrd::events::MapSnapshot map = system_->map_snapshot();
+  lrd::events::MapSnapshot map;
+  shared([&] { map = system_->map_snapshot(); });
   sensor_msgs::PointCloud2 cloud = cloud_message(map.points.size(), false, settings_.map_frame);
   sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
   for (const lrd::events::MapPointSnapshot& p : map.points) {
@@ -228,7 +237,8 @@ void RosPublisher::publish_map() {
 
 void RosPublisher::publish_dense_map() {
   if (system_ == nullptr || !system_->dense_enabled()) return;
-  const lrd::dense::PointCloud dense = system_->dense_map();
+  lrd::dense::PointCloud dense;
+  shared([&] { dense = system_->dense_map(); });
   const bool colour = dense.colours.size() == dense.points.size();
   sensor_msgs::PointCloud2 cloud = cloud_message(dense.size(), colour, settings_.map_frame);
   sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");

@@ -15,6 +15,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <shared_mutex>
 #include <string>
 
 #include "lrd/events/event_publisher.h"
@@ -31,6 +32,7 @@ struct PublisherSettings {
   std::string world_frame = "world";
   double map_period_s = 1.0;    // map_points and keyframes at most this often
   double dense_period_s = 5.0;  // dense_map at most this often (it merges every keyframe's cloud)
+  double path_period_s = 1.0;   // the growing path at most this often (and after loops and saves)
 };
 
 class RosPublisher final : public lrd::events::Subscriber {
@@ -57,6 +59,19 @@ class RosPublisher final : public lrd::events::Subscriber {
   void publish_map();
   void publish_dense_map();
 
+  // System::reset replaces the map the queries above read: it runs alone (the tracking thread),
+  // the queries (this publisher's thread, the node's services) beside each other.
+  template <typename F>
+  void exclusive(F&& f) {
+    std::unique_lock lock(system_mutex_);
+    f();
+  }
+  template <typename F>
+  void shared(F&& f) const {
+    std::shared_lock lock(system_mutex_);
+    f();
+  }
+
  private:
   using Clock = std::chrono::steady_clock;
   void publish_state(const std::string& state);
@@ -68,8 +83,10 @@ class RosPublisher final : public lrd::events::Subscriber {
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
 
+  mutable std::shared_mutex system_mutex_;
   std::mutex path_mutex_;  // the service thread republishes the path too
   nav_msgs::Path path_message_;
+  std::optional<Clock::time_point> last_path_;
 
   std::string last_state_;
   std::optional<Clock::time_point> last_map_, last_dense_;

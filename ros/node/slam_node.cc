@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <ros/console.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -69,13 +70,25 @@ SlamNode::~SlamNode() {
 }
 
 void SlamNode::drop(std::size_t NodeCounts::*counter, const std::string& why) {
+  // Throttled per kind, by hand: ROS_WARN_THROTTLE keeps one unguarded time per call site, and
+  // two threads (the image callback, tracking) come here.
   std::size_t n = 0;
+  bool warn = false;
   {
     std::lock_guard lock(counts_mutex_);
     n = ++(counts_.*counter);
+    const auto now = std::chrono::steady_clock::now();
+    auto last = std::find_if(last_warning_.begin(), last_warning_.end(),
+                             [counter](const auto& w) { return w.first == counter; });
+    if (last == last_warning_.end()) {
+      last_warning_.emplace_back(counter, now);
+      warn = true;
+    } else if (std::chrono::duration<double>(now - last->second).count() >= params_.warn_period_s) {
+      last->second = now;
+      warn = true;
+    }
   }
-  ROS_WARN_THROTTLE(params_.warn_period_s, "lrdslam: dropped a frame (%zu so far of this kind): %s", n,
-                    why.c_str());
+  if (warn) ROS_WARN("lrdslam: dropped a frame (%zu so far of this kind): %s", n, why.c_str());
 }
 
 void SlamNode::on_images(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs::ImageConstPtr& depth) {
@@ -86,12 +99,12 @@ void SlamNode::on_images(const sensor_msgs::ImageConstPtr& rgb, const sensor_msg
   Frame f;
   try {
     f.rgb = colour_from_message(*rgb);
-  } catch (const lrd::Error& e) {
+  } catch (const std::exception& e) {  // lrd::Error; anything else is no reason to stop the node
     return drop(&NodeCounts::malformed, params_.rgb_topic + ": " + e.what());
   }
   try {
     f.depth = depth_from_message(*depth);
-  } catch (const lrd::Error& e) {
+  } catch (const std::exception& e) {
     return drop(&NodeCounts::malformed, params_.depth_topic + ": " + e.what());
   }
   if (f.rgb.size() != f.depth.size())
@@ -139,7 +152,7 @@ void SlamNode::track(Frame& f) {
   if (!system_ && !start_system(f)) return;
   lrd::System& slam = *system_->system;
   if (reset_requested_.exchange(false)) {
-    slam.reset();
+    publisher_->exclusive([&] { slam.reset(); });
     publisher_->publish_path({});
     last_timestamp_ = -1.0;
     ROS_INFO("lrdslam: reset: a new map starts with this frame");
@@ -201,9 +214,12 @@ void SlamNode::save(const fs::path& dir, std::string* message) {
     return;
   }
   fs::create_directories(dir);
-  const lrd::io::Trajectory trajectory = system_->system->trajectory();
-  lrd::io::write_trajectory_tum(dir / "CameraTrajectory.txt", trajectory);
-  system_->system->save_keyframe_trajectory_tum(dir / "KeyFrameTrajectory.txt");
+  lrd::io::Trajectory trajectory;
+  publisher_->shared([&] {
+    trajectory = system_->system->trajectory();
+    lrd::io::write_trajectory_tum(dir / "CameraTrajectory.txt", trajectory);
+    system_->system->save_keyframe_trajectory_tum(dir / "KeyFrameTrajectory.txt");
+  });
   publisher_->publish_path(trajectory);  // the last path is the saved trajectory
   *message = fmt::format("{} poses to {}", trajectory.size(), (dir / "CameraTrajectory.txt").string());
 }
@@ -240,8 +256,13 @@ void SlamNode::stop() {
   }
   std::string saved = "no frames tracked";
   std::size_t loops = 0;
+  std::exception_ptr error;  // a worker thread's, rethrown once everything is written
   if (system_) {
-    system_->system->shutdown();
+    try {
+      system_->system->shutdown();
+    } catch (...) {
+      error = std::current_exception();
+    }
     save(params_.output_dir, &saved);
     loops = system_->system->map_stats().loops;
   }
@@ -261,6 +282,7 @@ void SlamNode::stop() {
       "(malformed), %zu (no camera); %s",
       counts.received, counts.tracked, counts.lost, counts.queue_dropped, counts.malformed, counts.no_camera,
       saved.c_str());
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace lrd_ros

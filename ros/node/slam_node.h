@@ -12,12 +12,15 @@
 #include <std_srvs/Trigger.h>
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "frame_queue.h"
 #include "node_config.h"
@@ -97,6 +100,8 @@ class SlamNode {
 
   mutable std::mutex counts_mutex_;
   NodeCounts counts_;
+  // The last drop warning of each kind (counter), for the throttle.
+  std::vector<std::pair<std::size_t NodeCounts::*, std::chrono::steady_clock::time_point>> last_warning_;
   std::vector<FrameTime> times_;  // the tracking thread's, read after it stopped
 
   FrameQueue<Frame> frames_;

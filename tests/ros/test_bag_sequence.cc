@@ -146,6 +146,12 @@ TEST(ImageMessages, MalformedMessagesAreErrorsNotCrashes) {
   bad.encoding = "yuv422";
   EXPECT_THAT(error_of([&] { (void)lrd_ros::colour_from_message(bad); }), HasSubstr("'yuv422'"));
   EXPECT_THAT(error_of([&] { (void)lrd_ros::depth_from_message(good); }), HasSubstr("not a depth encoding"));
+  // A row stride that is no whole number of depth values (OpenCV would throw its own exception).
+  auto odd = lrd_ros::depth_message(depth_metres(1.0f), ros::Time(1, 0), "d");
+  odd.step += 2;
+  odd.data.resize(static_cast<std::size_t>(odd.step) * odd.height);
+  EXPECT_THAT(error_of([&] { (void)lrd_ros::depth_from_message(odd); }),
+              HasSubstr("is not a whole number of 4-byte values"));
   sensor_msgs::CameraInfo info;
   info.width = 640;
   info.height = 480;
@@ -159,6 +165,11 @@ TEST(ImageMessages, StampsRoundTripAsTheTextFilesParse) {
     EXPECT_EQ(lrd_ros::to_seconds(stamp), t) << text;
   }
   EXPECT_EQ(lrd_ros::to_stamp(1305031102.175304).nsec, 175304000u);
+  // Raw fields of a message, not normalised: 5 s + 1.5e9 ns is 6.5 s.
+  ros::Time raw;
+  raw.sec = 5;
+  raw.nsec = 1500000000u;
+  EXPECT_EQ(lrd_ros::to_seconds(raw), 6.5);
 }
 
 TEST_F(BagTest, CameraInfoAndGroundTruthThroughATfChain) {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "lrd/runner/sequence_runner.h"
@@ -44,6 +46,57 @@ TEST(ResolveConfig, SequenceSettingsThenPresetThenDefault) {
   EXPECT_DOUBLE_EQ(resolve_config(o).camera.fx, lrd::camera::camera_preset("tum2").fx);
   o.settings = seq / "settings.yaml";
   EXPECT_THROW((void)resolve_config(o), lrd::Error);  // both given
+}
+
+namespace {
+// A source that carries a camera (as a bag's camera_info), named like a file.
+class CameraSource final : public lrd::io::FrameSource {
+ public:
+  explicit CameraSource(fs::path path) : path_(std::move(path)) {}
+  std::size_t size() const override { return 0; }
+  const lrd::io::FrameEntry& entry(std::size_t) const override { return entry_; }
+  lrd::io::RgbdFrame load_rgbd(std::size_t, double) const override { return {}; }
+  std::string describe(std::size_t) const override { return path_.string(); }
+  fs::path path() const override { return path_; }
+  std::optional<fs::path> folder() const override { return std::nullopt; }
+  std::optional<lrd::io::Trajectory> ground_truth() const override { return std::nullopt; }
+  std::string ground_truth_origin() const override { return ""; }
+  std::optional<lrd::io::SourceCamera> camera() const override {
+    lrd::io::SourceCamera c;
+    c.width = 320;
+    c.height = 240;
+    c.fx = c.fy = 262.5;
+    c.cx = 159.5;
+    c.cy = 119.5;
+    c.k1 = 0.1;
+    c.origin = "camera_info in " + path_.string();
+    return c;
+  }
+
+ private:
+  fs::path path_;
+  lrd::io::FrameEntry entry_;
+};
+}  // namespace
+
+TEST(ResolveConfig, ACarriedCameraComesAfterTheCommandLineAndTumBagsUseTheirSensorsCalibration) {
+  RunOptions o;
+  o.source = std::make_shared<CameraSource>("/data/robot_run.bag");
+  std::string source;
+  auto cfg = resolve_config(o, &source);
+  EXPECT_EQ(cfg.camera.fx, 262.5);
+  EXPECT_EQ(cfg.camera.width, 320);
+  EXPECT_EQ(cfg.camera.distortion.k1, 0.1);
+  EXPECT_EQ(cfg.camera.depth_map_factor, lrd::camera::PinholeCamera{}.depth_map_factor);
+  EXPECT_EQ(source, "camera_info in /data/robot_run.bag");
+  o.preset = "tum1";
+  EXPECT_DOUBLE_EQ(resolve_config(o).camera.fx, lrd::camera::camera_preset("tum1").fx);
+  // TUM's own bags carry the driver's default camera_info: the sensor's calibration wins.
+  o.preset.reset();
+  o.source = std::make_shared<CameraSource>("/data/rgbd_dataset_freiburg2_xyz.bag");
+  cfg = resolve_config(o, &source);
+  EXPECT_DOUBLE_EQ(cfg.camera.fx, lrd::camera::camera_preset("tum2").fx);
+  EXPECT_NE(source.find("preset tum2 (from the bag name"), std::string::npos) << source;
 }
 
 TEST(ResolveConfig, RunOnAMissingFolderFailsWithItsName) {

@@ -27,9 +27,26 @@ fs::path data_folder(const RunOptions& o) {
   return o.sequence;
 }
 
+namespace {
+
+// TUM folder and bag names carry the sensor: rgbd_dataset_freiburg3_walking_xyz(.bag) -> '3'.
+char tum_sensor_of(const fs::path& named) {
+  if (named.empty()) return '\0';
+  std::string name = fs::absolute(named).lexically_normal().filename().string();
+  if (name.empty()) name = fs::absolute(named).lexically_normal().parent_path().filename().string();
+  const std::size_t at = name.find("freiburg");
+  const char sensor = at != std::string::npos && at + 8 < name.size() ? name[at + 8] : '\0';
+  return sensor >= '1' && sensor <= '3' ? sensor : '\0';
+}
+
+}  // namespace
+
 config::Config resolve_config(const RunOptions& o, std::string* source) {
   config::Config cfg = o.config ? config::load_config(*o.config) : config::Config{};
   std::string from;
+  const char sensor = tum_sensor_of(o.source ? o.source->path() : o.sequence);
+  const auto carried = o.source ? o.source->camera() : std::nullopt;
+  const fs::path folder = data_folder(o);
   if (o.settings && o.preset) throw Error("--settings and --preset cannot be combined");
   if (o.settings) {
     const config::Settings s = config::read_orbslam_settings(*o.settings);
@@ -41,30 +58,24 @@ config::Config resolve_config(const RunOptions& o, std::string* source) {
     from = "preset " + *o.preset;
   } else if (cfg.camera_given) {
     from = "config " + cfg.file.string();
-  } else if (const auto carried = o.source ? o.source->camera() : std::nullopt) {
+  } else if (carried && sensor != '\0') {
+    // TUM's bags carry the driver's default camera_info (fx 525), not TUM's calibration: the
+    // sensor's preset makes a bag run match the folder run and the published results.
+    cfg.camera = camera::camera_preset(std::string("tum") + sensor);
+    from = std::string("preset tum") + sensor +
+           " (from the bag name; TUM's camera_info is the driver's default)";
+  } else if (carried) {
     cfg.camera = camera_from_source(*carried, cfg.camera);
     from = carried->origin;
-  } else if (const fs::path folder = data_folder(o);
-             !folder.empty() && fs::exists(folder / "settings.yaml")) {
+  } else if (!folder.empty() && fs::exists(folder / "settings.yaml")) {
     const config::Settings s = config::read_orbslam_settings(folder / "settings.yaml");
     cfg.camera = s.camera;
     from = "settings " + (folder / "settings.yaml").string();
+  } else if (sensor != '\0') {
+    cfg.camera = camera::camera_preset(std::string("tum") + sensor);
+    from = std::string("preset tum") + sensor + " (from the folder name)";
   } else {
-    // TUM folder and bag names carry the sensor: rgbd_dataset_freiburg3_walking_xyz(.bag).
-    const fs::path named = o.source ? o.source->path() : o.sequence;
-    std::string name;
-    if (!named.empty()) {
-      name = fs::absolute(named).lexically_normal().filename().string();
-      if (name.empty()) name = fs::absolute(named).lexically_normal().parent_path().filename().string();
-    }
-    const std::size_t at = name.find("freiburg");
-    const char sensor = at != std::string::npos && at + 8 < name.size() ? name[at + 8] : '\0';
-    if (sensor >= '1' && sensor <= '3') {
-      cfg.camera = camera::camera_preset(std::string("tum") + sensor);
-      from = std::string("preset tum") + sensor + " (from the folder name)";
-    } else {
-      from = "preset tum3 (default)";
-    }
+    from = "preset tum3 (default)";
   }
   if (source != nullptr) *source = from;
   return cfg;
