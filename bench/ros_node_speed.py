@@ -43,11 +43,8 @@ def run_cli(build, bag, mode, segmenter, out):
 def run_node(master, build, bag, mode, segmenter, out):
     from rosenv import Node, play
 
-    os.environ["LRDSLAM_ROS_BIN"] = f"{build}/bin/lrdslam_ros"
-    import rosenv
-
-    rosenv.NODE_BIN = os.environ["LRDSLAM_ROS_BIN"]
-    node = Node(master, out + ".log", mode=mode, segmenter=segmenter, output_dir=out, queue_size=2)
+    node = Node(master, out + ".log", binary=f"{build}/bin/lrdslam_ros", mode=mode, segmenter=segmenter,
+                output_dir=out, queue_size=2)
     try:
         node.wait_ready()
         time.sleep(1)

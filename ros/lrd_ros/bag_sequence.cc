@@ -19,6 +19,7 @@
 #include "lrd/io/tum_sequence.h"
 #include "lrd/util/error.h"
 #include "lrd_ros/image_messages.h"
+#include "lrd_ros/pose_messages.h"
 
 namespace lrd_ros {
 
@@ -157,13 +158,7 @@ lrd::io::Trajectory read_ground_truth(const rosbag::Bag& bag, const fs::path& fi
   for (const ros::Time& stamp : stamps) {
     try {
       const geometry_msgs::TransformStamped x = buffer.lookupTransform(parent, child, stamp);
-      lrd::io::StampedPose p;
-      p.timestamp = to_seconds(stamp);
-      const auto& q = x.transform.rotation;
-      p.pose.linear() = Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized().toRotationMatrix();
-      p.pose.translation() =
-          Eigen::Vector3d(x.transform.translation.x, x.transform.translation.y, x.transform.translation.z);
-      gt.push_back(p);
+      gt.push_back({to_seconds(stamp), from_message(x.transform)});
     } catch (const tf2::TransformException&) {
       // Outside the span of another transform of the chain: no sample there.
     }

@@ -8,24 +8,18 @@
 
 #include "lrd/util/error.h"
 #include "lrd_ros/image_messages.h"
+#include "lrd_ros/pose_messages.h"
 
 namespace lrd_ros {
 
 namespace {
 
-tf2_msgs::TFMessage transform_message(const lrd::io::StampedPose& p, const BagLayout& layout) {
+tf2_msgs::TFMessage tf_message(const lrd::io::StampedPose& p, const BagLayout& layout) {
   geometry_msgs::TransformStamped t;
   t.header.stamp = to_stamp(p.timestamp);
   t.header.frame_id = layout.topics.gt_parent;
   t.child_frame_id = layout.topics.gt_child;
-  const Eigen::Quaterniond q(p.pose.linear());
-  t.transform.rotation.x = q.x();
-  t.transform.rotation.y = q.y();
-  t.transform.rotation.z = q.z();
-  t.transform.rotation.w = q.w();
-  t.transform.translation.x = p.pose.translation().x();
-  t.transform.translation.y = p.pose.translation().y();
-  t.transform.translation.z = p.pose.translation().z();
+  t.transform = transform_message(p.pose);
   tf2_msgs::TFMessage m;
   m.transforms.push_back(t);
   return m;
@@ -48,7 +42,7 @@ void write_bag(const lrd::io::FrameSource& source, const lrd::camera::PinholeCam
     }
     if (const auto gt = source.ground_truth())
       for (const lrd::io::StampedPose& p : *gt)
-        bag.write("/tf", to_stamp(p.timestamp), transform_message(p, layout));
+        bag.write("/tf", to_stamp(p.timestamp), tf_message(p, layout));
     bag.close();
   } catch (const rosbag::BagException& e) {
     std::filesystem::remove(file);

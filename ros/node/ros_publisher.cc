@@ -13,23 +13,11 @@
 
 #include "lrd/system.h"
 #include "lrd_ros/image_messages.h"
+#include "lrd_ros/pose_messages.h"
 
 namespace lrd_ros {
 
 namespace {
-
-geometry_msgs::Pose pose_message(const Eigen::Isometry3d& T) {
-  geometry_msgs::Pose p;
-  const Eigen::Quaterniond q(T.linear());
-  p.position.x = T.translation().x();
-  p.position.y = T.translation().y();
-  p.position.z = T.translation().z();
-  p.orientation.x = q.x();
-  p.orientation.y = q.y();
-  p.orientation.z = q.z();
-  p.orientation.w = q.w();
-  return p;
-}
 
 // The frame in grey, the dynamic mask tinted blue, the keypoints tracking kept in green and those
 // the geometry check removed in red.
@@ -96,17 +84,13 @@ RosPublisher::RosPublisher(ros::NodeHandle& node, PublisherSettings settings)
   path_message_.header.frame_id = settings_.map_frame;
   if (!settings_.world_frame.empty()) {
     // world x = camera z (forward), world y = -camera x (left), world z = -camera y (up).
-    Eigen::Matrix3d R;
-    R << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-    const Eigen::Quaterniond q(R);
+    Eigen::Isometry3d T_world_map = Eigen::Isometry3d::Identity();
+    T_world_map.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
     geometry_msgs::TransformStamped t;
     t.header.stamp = ros::Time::now();
     t.header.frame_id = settings_.world_frame;
     t.child_frame_id = settings_.map_frame;
-    t.transform.rotation.x = q.x();
-    t.transform.rotation.y = q.y();
-    t.transform.rotation.z = q.z();
-    t.transform.rotation.w = q.w();
+    t.transform = transform_message(T_world_map);
     static_tf_.sendTransform(t);
   }
 }
@@ -129,10 +113,7 @@ void RosPublisher::publish_result(double timestamp, const lrd::TrackResult& r) {
   geometry_msgs::TransformStamped t;
   t.header = pose.header;
   t.child_frame_id = camera_frame_;
-  t.transform.translation.x = pose.pose.position.x;
-  t.transform.translation.y = pose.pose.position.y;
-  t.transform.translation.z = pose.pose.position.z;
-  t.transform.rotation = pose.pose.orientation;
+  t.transform = transform_message(*r.T_wc);
   tf_.sendTransform(t);
 
   // The path grows with the run: re-sent at most once a period, so its cost per frame stays flat.

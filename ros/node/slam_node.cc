@@ -42,12 +42,13 @@ NodeParams NodeParams::from(const ros::NodeHandle& pn) {
 
 SlamNode::SlamNode(ros::NodeHandle& node, ros::NodeHandle& private_node)
     : params_(NodeParams::from(private_node)),
+      // Read once: an unreadable ~config stops the node now, not at the first frame.
+      names_camera_(names_camera(params_.system)),
       publisher_(std::make_shared<RosPublisher>(private_node, params_.publisher)),
       rgb_sub_(node, params_.rgb_topic, params_.queue_size),
       depth_sub_(node, params_.depth_topic, params_.queue_size),
       sync_(Policy(std::max(params_.queue_size, 2) * 5), rgb_sub_, depth_sub_),
       frames_(static_cast<std::size_t>(params_.queue_size)) {
-  (void)names_camera(params_.system);  // an unreadable ~config stops the node now, not at the first frame
   sync_.registerCallback(
       boost::bind(&SlamNode::on_images, this, boost::placeholders::_1, boost::placeholders::_2));
   camera_info_sub_ = node.subscribe(params_.camera_info_topic, 1, &SlamNode::on_camera_info, this);
@@ -134,7 +135,7 @@ bool SlamNode::start_system(const Frame& first) {
     std::lock_guard lock(camera_mutex_);
     info = camera_info_;
   }
-  if (!names_camera(params_.system) && !info) {
+  if (!names_camera_ && !info) {
     drop(&NodeCounts::no_camera,
          "no camera yet: no camera_info on " + params_.camera_info_topic + " and no ~settings");
     return false;

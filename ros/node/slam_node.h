@@ -83,6 +83,7 @@ class SlamNode {
   void save(const std::filesystem::path& dir, std::string* message);
 
   const NodeParams params_;
+  const bool names_camera_;  // ~settings or ~config name the camera: no camera_info needed
   std::shared_ptr<RosPublisher> publisher_;
   message_filters::Subscriber<sensor_msgs::Image> rgb_sub_, depth_sub_;
   message_filters::Synchronizer<Policy> sync_;

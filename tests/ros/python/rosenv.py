@@ -56,15 +56,15 @@ class RosMaster:
 
 
 class Node:
-    """lrdslam_ros as `lrdslam` with private parameters (name -> value)."""
+    """lrdslam_ros (binary, default $LRDSLAM_ROS_BIN) as `lrdslam` with private parameters."""
 
-    def __init__(self, master, log, **params):
+    def __init__(self, master, log, binary=None, **params):
         # Private parameters outlive their node on the master: a previous node's must not leak in.
         import rospy
 
         if rospy.has_param("/lrdslam"):
             rospy.delete_param("/lrdslam")
-        args = [NODE_BIN, "__name:=lrdslam"] + [f"_{k}:={v}" for k, v in params.items()]
+        args = [binary or NODE_BIN, "__name:=lrdslam"] + [f"_{k}:={v}" for k, v in params.items()]
         self.log = log
         self.process = subprocess.Popen(args, env=master.env, stdout=open(log, "w"), stderr=subprocess.STDOUT)
 

@@ -108,19 +108,20 @@ def same_poses(rows, poses):
     return np.abs(a - b).max() < 1e-6
 
 
-def test_the_node_tracks_a_bag_and_publishes_what_rviz_shows(master, sequence, tmp_path):
-    folder, bag = sequence
+def run_node_on_bag(master, bag, tmp_path, **params):
+    """The node with these parameters, the bag played into it, save_trajectory called, then SIGINT
+    (it must exit 0). Returns the recorder, node_summary.json, the output folder and the node."""
+    import rospy
+    from std_srvs.srv import Trigger
+
     out = tmp_path / "out"
-    node = Node(master, tmp_path / "node.log", mode="full", segmenter="fnet", output_dir=out, queue_size=4)
+    node = Node(master, tmp_path / "node.log", output_dir=out, queue_size=4, **params)
     recorder = Recorder()
     try:
         node.wait_ready()
         wait_for(recorder.connected, 30, "the node's publishers")
         play(master, bag, RATE)
         time.sleep(3)  # the last queued frames
-        import rospy
-        from std_srvs.srv import Trigger
-
         rospy.wait_for_service("/lrdslam/save_trajectory", timeout=10)
         saved = rospy.ServiceProxy("/lrdslam/save_trajectory", Trigger)()
         assert saved.success, saved.message
@@ -130,7 +131,16 @@ def test_the_node_tracks_a_bag_and_publishes_what_rviz_shows(master, sequence, t
         node.kill()
         recorder.close()
     assert status == 0, node.output()
-    summary = json.loads((out / "node_summary.json").read_text())
+    return recorder, json.loads((out / "node_summary.json").read_text()), out, node
+
+
+def saved_rows(out):
+    return [l for l in (out / "CameraTrajectory.txt").read_text().splitlines() if not l.startswith("#")]
+
+
+def test_the_node_tracks_a_bag_and_publishes_what_rviz_shows(master, sequence, tmp_path):
+    folder, bag = sequence
+    recorder, summary, out, _ = run_node_on_bag(master, bag, tmp_path, mode="full", segmenter="fnet")
     poses = recorder.messages["pose"]
 
     # Accuracy: the pose topic as recorded, against the bag's ground truth.
@@ -163,9 +173,9 @@ def test_the_node_tracks_a_bag_and_publishes_what_rviz_shows(master, sequence, t
 
     # The last path is the trajectory the node saved (the service republishes it).
     path = recorder.messages["path"][-1]
-    saved_rows = [l for l in (out / "CameraTrajectory.txt").read_text().splitlines() if not l.startswith("#")]
-    assert len(path.poses) == len(saved_rows) == summary["tracked"]
-    assert same_poses(saved_rows, path.poses)
+    rows = saved_rows(out)
+    assert len(path.poses) == len(rows) == summary["tracked"]
+    assert same_poses(rows, path.poses)
 
 
 def test_malformed_messages_are_dropped_and_counted_without_a_crash(master, sequence, tmp_path):
@@ -217,8 +227,7 @@ def test_malformed_messages_are_dropped_and_counted_without_a_crash(master, sequ
     assert summary["malformed"] == 5, (summary, node.output())
     assert summary["received"] >= 7
     # SIGINT wrote the trajectory of the good frames (nothing else saved it).
-    rows = [l for l in (out / "CameraTrajectory.txt").read_text().splitlines() if not l.startswith("#")]
-    assert len(rows) == summary["tracked"]
+    assert len(saved_rows(out)) == summary["tracked"]
     log = node.output()
     assert "dropped a frame" in log and "encoding 'yuv422' is not a colour encoding" in log
 
@@ -256,31 +265,15 @@ def test_without_a_camera_frames_wait_and_are_counted(master, tmp_path):
 
 
 def test_after_a_loop_closure_the_path_is_corrected_and_matches_the_saved_trajectory(master, tmp_path):
-    import rospy
-    from std_srvs.srv import Trigger
-
     # static_loop with the camera 2.5x faster: its two laps in 400 frames, the loop near frame 210.
     d = tmp_path / "loop"
     lrdslam("synth", "--preset", "static_loop", "--camera-speed", 2.5, "--frames", 250, "--out", d,
             "--bag", tmp_path / "loop.bag")
-    out = tmp_path / "out"
-    node = Node(master, tmp_path / "node.log", mode="static", dense="true", output_dir=out, queue_size=4)
-    recorder = Recorder()
     try:
-        node.wait_ready()
-        wait_for(recorder.connected, 30, "the node's publishers")
-        play(master, tmp_path / "loop.bag", RATE)
-        time.sleep(3)
-        saved = rospy.ServiceProxy("/lrdslam/save_trajectory", Trigger)()
-        assert saved.success, saved.message
-        time.sleep(1)
-        status = node.interrupt()
+        recorder, summary, out, node = run_node_on_bag(master, tmp_path / "loop.bag", tmp_path, mode="static",
+                                                       dense="true")
     finally:
-        node.kill()
-        recorder.close()
-    (tmp_path / "loop.bag").unlink()  # 0.5 GB
-    assert status == 0, node.output()
-    summary = json.loads((out / "node_summary.json").read_text())
+        (tmp_path / "loop.bag").unlink()  # 0.5 GB
     assert summary["loops"] >= 1, (summary, node.output())
 
     # The loop republished the path corrected: some path message moves a pose the pose topic had
@@ -296,7 +289,7 @@ def test_after_a_loop_closure_the_path_is_corrected_and_matches_the_saved_trajec
     assert any(moved(p) > 1e-4 for p in recorder.messages["path"][:-1])
     # And the last path is the trajectory saved.
     path = recorder.messages["path"][-1]
-    rows = [l for l in (out / "CameraTrajectory.txt").read_text().splitlines() if not l.startswith("#")]
+    rows = saved_rows(out)
     assert len(path.poses) == len(rows) == summary["tracked"]
     assert same_poses(rows, path.poses)
     # Frames dropped under load (ASan, the other tests) cost some accuracy; the static scene keeps
