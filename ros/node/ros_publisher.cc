@@ -120,11 +120,9 @@ void RosPublisher::publish_result(double timestamp, const lrd::TrackResult& r) {
   std::lock_guard lock(path_mutex_);
   path_message_.header.stamp = pose.header.stamp;
   path_message_.poses.push_back(pose);
-  const auto now = Clock::now();
-  if (last_path_ && std::chrono::duration<double>(now - *last_path_).count() < settings_.path_period_s)
-    return;
-  last_path_ = now;
+  if (!due(last_path_, settings_.path_period_s)) return;
   path_.publish(path_message_);
+  last_path_ = Clock::now();
 }
 
 void RosPublisher::on_frame(const lrd::events::FrameTracked& e) {
@@ -156,19 +154,24 @@ void RosPublisher::on_loop(const lrd::events::LoopClosed& /*e*/) {
   publish_map();
 }
 
+bool RosPublisher::due(const std::optional<Clock::time_point>& last, double period_s) {
+  return !last || std::chrono::duration<double>(Clock::now() - *last).count() >= period_s;
+}
+
+// The throttled clouds count their period from the end of the last one: a cloud that takes longer
+// to build than the period (a big map, a slow machine) would otherwise be rebuilt for every queued
+// event, and the backlog would outlast the run (seen under ASan on a loaded machine: a node that
+// needed minutes to stop).
 void RosPublisher::on_map_changed(const lrd::events::MapChanged& /*e*/) {
-  const auto now = Clock::now();
-  if (last_map_ && std::chrono::duration<double>(now - *last_map_).count() < settings_.map_period_s) return;
-  last_map_ = now;
+  if (!due(last_map_, settings_.map_period_s)) return;
   publish_map();
+  last_map_ = Clock::now();
 }
 
 void RosPublisher::on_dense_map(const lrd::events::DenseMapUpdated& /*e*/) {
-  const auto now = Clock::now();
-  if (last_dense_ && std::chrono::duration<double>(now - *last_dense_).count() < settings_.dense_period_s)
-    return;
-  last_dense_ = now;
+  if (!due(last_dense_, settings_.dense_period_s)) return;
   publish_dense_map();
+  last_dense_ = Clock::now();
 }
 
 void RosPublisher::publish_path(const lrd::io::Trajectory& trajectory) {

@@ -88,6 +88,8 @@ class RosPublisher final : public lrd::events::Subscriber {
   nav_msgs::Path path_message_;
   std::optional<Clock::time_point> last_path_;
 
+  static bool due(const std::optional<Clock::time_point>& last, double period_s);
+
   std::string last_state_;
   std::optional<Clock::time_point> last_map_, last_dense_;
 };

@@ -231,7 +231,7 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
   auto extraction = data::Frame::Extraction::Full;
   if (p.front_end.uses_segmentation()) p.extractor.detect(grey);
   const auto w0 = Clock::now();
-  const dynamic::SemanticMask semantic = p.front_end.mask(id, depth_m, p.tracker.predicted_pose());
+  const dynamic::SemanticMask semantic = p.front_end.mask(id, depth_m, p.tracker.predicted_pose(timestamp));
   if (p.front_end.uses_segmentation()) {
     if (!semantic.mask.empty()) {
       if (dynamic_mask.empty()) {

@@ -3,6 +3,8 @@
 // skew matrix. Tangent vectors are ordered (omega, nu): rotation first, then translation.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <cmath>
 
 namespace lrd::geometry {
 
@@ -32,6 +34,28 @@ inline Eigen::Isometry3d se3_exp(const Vector6d& xi) {
   T.linear() = R;
   T.translation() = V * v;
   return T;
+}
+
+// log of a rigid transform, as a twist (omega, nu): the inverse of se3_exp for rotations below pi.
+inline Vector6d se3_log(const Eigen::Isometry3d& T) {
+  const Eigen::AngleAxisd aa(Eigen::Quaterniond(T.linear()).normalized());
+  const double theta = aa.angle();
+  const Eigen::Vector3d w = theta * aa.axis();
+  const Eigen::Matrix3d W = skew(w);
+  Eigen::Matrix3d V = Eigen::Matrix3d::Identity() + 0.5 * W;
+  if (theta >= 1e-10) {
+    const double s = std::sin(theta), c = std::cos(theta), t2 = theta * theta;
+    V = Eigen::Matrix3d::Identity() + (1.0 - c) / t2 * W + (theta - s) / (t2 * theta) * W * W;
+  }
+  Vector6d xi;
+  xi.head<3>() = w;
+  xi.tail<3>() = V.partialPivLu().solve(T.translation());
+  return xi;
+}
+
+// T to the real power s, along the screw motion: s = 1/n is the motion of one of n equal steps.
+inline Eigen::Isometry3d se3_power(const Eigen::Isometry3d& T, double s) {
+  return se3_exp(s * se3_log(T));
 }
 
 // The nearest rigid transform: products of rotations drift off orthonormality by rounding, and

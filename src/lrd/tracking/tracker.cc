@@ -8,6 +8,7 @@
 #include <map>
 #include <mutex>
 
+#include "lrd/geometry/se3.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
 #include "lrd/map/map_point.h"
@@ -95,7 +96,7 @@ TrackOutcome Tracker::track(data::Frame& frame) {
     const bool ok = track_frame(frame, outcome);
     state_ = ok ? TrackingState::Ok : TrackingState::Lost;
     if (ok) {
-      velocity_ = frame.T_cw() * last_frame_->T_wc();
+      update_velocity(frame);
       const KeyFrameContext context{reference_kf_, inliers_,
                                     recovered_ ? std::optional(recovered_frame_id_) : std::nullopt};
       if (keyframes_.needed(frame, context)) {
@@ -173,10 +174,39 @@ void Tracker::record(const data::Frame& frame) {
     last_frame_->map_points.assign(last_frame_->size(), nullptr);
 }
 
-std::optional<Eigen::Isometry3d> Tracker::predicted_pose() const {
+std::optional<Eigen::Isometry3d> Tracker::predicted_pose(double timestamp) const {
   if (state_ != TrackingState::Ok || !last_frame_ || !last_frame_->has_pose()) return std::nullopt;
   if (!velocity_) return last_frame_->T_cw();
-  return *velocity_ * last_frame_->T_cw();
+  return motion_model_pose(timestamp);
+}
+
+int Tracker::frame_steps(double timestamp) const {
+  // Beyond a third of a second at 30 Hz the constant velocity is a guess either way; the
+  // reference keyframe and relocalization take over when it fails.
+  constexpr long kMaxSteps = 10;
+  const double dt = timestamp - last_frame_->timestamp();
+  if (frame_period_ <= 0.0 || !(dt > 0.0)) return 1;
+  return static_cast<int>(std::clamp(std::lround(dt / frame_period_), 1L, kMaxSteps));
+}
+
+Eigen::Isometry3d Tracker::motion_model_pose(double timestamp) const {
+  // The camera keeps its velocity over every frame since the last tracked one, dropped ones too.
+  const int steps = frame_steps(timestamp);
+  if (steps == 1) return *velocity_ * last_frame_->T_cw();
+  Eigen::Isometry3d T_cw = last_frame_->T_cw();
+  for (int step = 0; step < steps; ++step) T_cw = *velocity_ * T_cw;
+  return geometry::orthonormalized(T_cw);
+}
+
+void Tracker::update_velocity(const data::Frame& frame) {
+  // The motion per camera frame: one n-th of the motion since the last tracked frame when n-1
+  // frames between were dropped. Stamp jitter rounds away, so a sequence without gaps gives the
+  // plain frame-to-frame velocity.
+  const int steps = frame_steps(frame.timestamp());
+  const Eigen::Isometry3d motion = frame.T_cw() * last_frame_->T_wc();
+  velocity_ = steps == 1 ? motion : geometry::orthonormalized(geometry::se3_power(motion, 1.0 / steps));
+  const double dt = frame.timestamp() - last_frame_->timestamp();
+  if (steps == 1 && dt > 0.0) frame_period_ = dt;
 }
 
 bool Tracker::recently_recovered(const data::Frame& frame) const {
@@ -258,7 +288,7 @@ bool Tracker::track_reference_keyframe(data::Frame& frame) {
 }
 
 bool Tracker::track_with_motion_model(data::Frame& frame) {
-  frame.set_pose(*velocity_ * last_frame_->T_cw());
+  frame.set_pose(motion_model_pose(frame.timestamp()));
   std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
   std::fill(frame.outliers.begin(), frame.outliers.end(), false);
   int matches = motion_matcher_.search_by_projection(frame, *last_frame_, params_.motion_model_radius);

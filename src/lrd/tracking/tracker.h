@@ -80,9 +80,10 @@ class Tracker {
   // Frames relocalized so far.
   [[nodiscard]] int relocalizations() const { return relocalizations_; }
 
-  // World-to-camera pose of the next frame by the constant-velocity model (empty when not
-  // tracking). Map mutex not needed: it reads the tracker's own state only; call between frames.
-  [[nodiscard]] std::optional<Eigen::Isometry3d> predicted_pose() const;
+  // World-to-camera pose of the next frame, taken at `timestamp`, by the constant-velocity model
+  // (empty when not tracking). Map mutex not needed: it reads the tracker's own state only; call
+  // between frames.
+  [[nodiscard]] std::optional<Eigen::Isometry3d> predicted_pose(double timestamp) const;
 
   [[nodiscard]] TrackingState state() const { return state_; }
   [[nodiscard]] const std::vector<FrameRecord>& records() const { return records_; }
@@ -106,6 +107,11 @@ class Tracker {
   // map points, then tells the map's reclamation so (map mutex held).
   void let_go_of_removed_objects();
   [[nodiscard]] bool recently_recovered(const data::Frame& frame) const;
+  // Camera frames from the last tracked frame to one taken at `timestamp`: more than one where
+  // frames were dropped (a live node behind the camera) or are missing from a sequence.
+  [[nodiscard]] int frame_steps(double timestamp) const;
+  [[nodiscard]] Eigen::Isometry3d motion_model_pose(double timestamp) const;
+  void update_velocity(const data::Frame& frame);
 
   map::Map& map_;
   mapping::LocalMapper& mapper_;
@@ -120,7 +126,8 @@ class Tracker {
   std::optional<data::Frame> last_frame_;
   std::optional<std::uint64_t> last_frame_reference_;
   Eigen::Isometry3d last_T_c_ref_ = Eigen::Isometry3d::Identity();
-  std::optional<Eigen::Isometry3d> velocity_;  // T_c(t) c(t-1)
+  std::optional<Eigen::Isometry3d> velocity_;  // T_c(t) c(t-1), over one camera frame
+  double frame_period_ = 0.0;                  // seconds between camera frames (0: not yet known)
   map::KeyFrame* reference_kf_ = nullptr;
   std::uint64_t recovered_frame_id_ = 0;
   bool recovered_ = false;

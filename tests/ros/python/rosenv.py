@@ -83,8 +83,10 @@ class Node:
             time.sleep(0.2)
         raise AssertionError(f"the node did not advertise its services within {timeout} s:\n{self.output()}")
 
-    def interrupt(self, timeout=120):
-        """SIGINT, then the exit status (the node finishes its queue and writes its files)."""
+    def interrupt(self, timeout=300):
+        """SIGINT, then the exit status (the node finishes its queue and writes its files). The dense
+        stage works at the lowest priority: on a loaded machine under ASan its backlog of keyframes
+        takes minutes."""
         self.process.send_signal(signal.SIGINT)
         try:
             return self.process.wait(timeout=timeout)
