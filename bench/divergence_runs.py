@@ -28,17 +28,18 @@ def busy(stop_at):
 
 
 def largest_jump(trajectory_file):
-    """Largest distance between the positions of two consecutive lines (metres)."""
-    previous, worst = None, 0.0
+    """Largest distance between the positions of two consecutive lines (metres), and the stamp of
+    the second line."""
+    previous, worst, at = None, 0.0, 0.0
     with open(trajectory_file) as f:
         for line in f:
             if line.startswith("#") or not line.strip():
                 continue
-            t = [float(v) for v in line.split()[1:4]]
-            if previous is not None:
-                worst = max(worst, math.dist(t, previous))
-            previous = t
-    return worst
+            values = [float(v) for v in line.split()[:4]]
+            if previous is not None and math.dist(values[1:], previous) > worst:
+                worst, at = math.dist(values[1:], previous), values[0]
+            previous = values[1:]
+    return worst, at
 
 
 def ensure_sequence(binary, cache, preset):
@@ -69,24 +70,29 @@ def main():
         p.start()
     failed = []
     print(f"divergence hunt: {a.runs} threaded runs per preset, mode {a.mode}, {a.load} busy processes")
-    print(f"{'preset':<19} {'run':>3} {'ATE cm':>9} {'jump m':>8} {'loops':>5} {'rejected':>8} {'lost':>5}")
+    print(f"{'preset':<19} {'run':>3} {'ATE cm':>9} {'jump m':>8} {'jump at':>17} {'loops':>5} {'rejected':>8} "
+          f"{'BA not merged':>13} {'lost':>5}")
     try:
         for preset in presets:
             sequence = os.path.join(a.cache, preset)
             for run in range(1, a.runs + 1):
                 out = os.path.join(a.out, f"{preset}_{a.mode}_{run}")
                 r = subprocess.run([a.bin, "run", "--sequence", sequence, "--mode", a.mode, "--out", out],
-                                   stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                os.makedirs(out, exist_ok=True)
+                with open(os.path.join(out, "run.log"), "w") as f:  # the loops and BAs behind a jump
+                    f.write(r.stdout)
                 if r.returncode != 0:
-                    print(f"{preset:<19} {run:>3} failed: {r.stderr.strip().splitlines()[-1:]}")
+                    print(f"{preset:<19} {run:>3} failed: {r.stdout.strip().splitlines()[-1:]}")
                     failed.append((preset, run, "exit status"))
                     continue
                 with open(os.path.join(out, "summary.json")) as f:
                     s = json.load(f)
                 ate = s["ate"]["rmse"]
-                jump = largest_jump(os.path.join(out, "CameraTrajectory.txt"))
-                print(f"{preset:<19} {run:>3} {100 * ate:>9.2f} {jump:>8.3f} {len(s['loops']):>5} "
-                      f"{s.get('rejected_loops', 0):>8} {s['lost']:>5}", flush=True)
+                jump, jump_at = largest_jump(os.path.join(out, "CameraTrajectory.txt"))
+                print(f"{preset:<19} {run:>3} {100 * ate:>9.2f} {jump:>8.3f} {jump_at:>17.6f} {len(s['loops']):>5} "
+                      f"{s.get('rejected_loops', 0):>8} {s.get('implausible_global_bundle_adjustments', 0):>13} "
+                      f"{s['lost']:>5}", flush=True)
                 if a.mode == "full" and ate > 0.02:
                     failed.append((preset, run, f"ATE {100 * ate:.2f} cm > 2 cm"))
                 if a.mode != "full" and (jump > 0.5 or ate > 2.0):

@@ -59,6 +59,7 @@ struct MapStats {
   std::size_t loops = 0;    // loops closed
   int relocalizations = 0;  // times tracking was lost and relocalized
   int global_bundle_adjustments = 0;
+  int implausible_global_bundle_adjustments = 0;  // solved but not merged (optim/global_bundle_adjuster.h)
   int rejected_loops = 0;  // detected but contradicted by the map (loop/loop_agreement.h)
 };
 

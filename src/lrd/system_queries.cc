@@ -66,6 +66,7 @@ MapStats System::map_stats() const {
     const auto ls = impl_->pipe->loop_closer->stats();
     m.loops = ls.loops.size();
     m.global_bundle_adjustments = ls.global_bundle_adjustments;
+    m.implausible_global_bundle_adjustments = ls.implausible_global_bundle_adjustments;
     m.rejected_loops = ls.rejected_loops;
   }
   {

@@ -71,6 +71,9 @@ TEST(GlobalBundleAdjustment, BringsTheMapBackWithKeyFrameZeroFixed) {
 
   const auto stats = global_bundle_adjustment(s.map, 7);
   EXPECT_FALSE(stats.aborted);
+  EXPECT_FALSE(stats.implausible);  // the drift undone moves keyframes centimetres against their parents
+  EXPECT_GT(stats.largest_edge_change_m, 0.01);
+  EXPECT_LT(stats.largest_edge_change_m, 0.1);
   EXPECT_EQ(stats.keyframes, 4);
   EXPECT_EQ(stats.points, d.points_in_problem);  // points seen once constrain nothing: left out
   EXPECT_EQ(stats.observations, d.observations);
@@ -90,6 +93,32 @@ TEST(GlobalBundleAdjustment, BringsTheMapBackWithKeyFrameZeroFixed) {
     EXPECT_LT(rotation_error_deg(kf->T_cw(), LoopScene::true_pose(static_cast<int>(k))), 0.1);
   }
   EXPECT_LT(d.mean_point_error(), 0.3 * points_before);
+}
+
+TEST(GlobalBundleAdjustment, AResultThatMovesAKeyframeTooFarAgainstItsParentIsNotMerged) {
+  // The same solve with a limit below the centimetres it needs: judged implausible, nothing moves
+  // (on a map with people kept in it, global BA moved keyframes 0.3-1.3 m against their parents).
+  Drifted d;
+  LoopScene& s = d.s;
+  std::vector<Eigen::Isometry3d> poses;
+  for (KeyFrame* kf : s.first) poses.push_back(kf->T_cw());
+  std::vector<Eigen::Vector3d> points;
+  for (MapPoint* mp : s.first_points) points.push_back(mp->position());
+
+  lrd::optim::GlobalBundleAdjustmentParams params;
+  params.max_edge_change_m = 0.005;
+  const auto stats = global_bundle_adjustment(s.map, 7, nullptr, params);
+  EXPECT_TRUE(stats.implausible);
+  EXPECT_FALSE(stats.aborted);
+  EXPECT_GT(stats.largest_edge_change_m, 0.005);
+  EXPECT_GE(stats.worst_keyframe, s.first[1]->id());
+  EXPECT_LE(stats.worst_keyframe, s.first[3]->id());
+  EXPECT_EQ(s.map.big_change_index(), 0u);
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_TRUE(s.first[k]->T_cw().isApprox(poses[k], 1e-15)) << k;
+    EXPECT_NE(s.first[k]->global_ba_for, 7u) << k;
+  }
+  for (std::size_t p = 0; p < points.size(); ++p) EXPECT_EQ(s.first_points[p]->position(), points[p]) << p;
 }
 
 TEST(GlobalBundleAdjustment, MergeCarriesWhatTheSolveDidNotHoldAlongTheSpanningTree) {

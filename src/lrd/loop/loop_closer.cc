@@ -49,6 +49,10 @@ LoopClosingParams LoopClosingParams::from_config(config::NodeReader r,
   p.global_ba = r.get("global_ba", p.global_ba);
   p.global_ba_iterations = r.get("global_ba_iterations", p.global_ba_iterations);
   r.check(p.global_ba_iterations >= 1, "global_ba_iterations", "must be >= 1");
+  p.global_ba_max_edge_change_m = r.get("global_ba_max_edge_change_m", p.global_ba_max_edge_change_m);
+  r.check(p.global_ba_max_edge_change_m > 0.0, "global_ba_max_edge_change_m", "must be > 0");
+  p.global_ba_max_edge_change_deg = r.get("global_ba_max_edge_change_deg", p.global_ba_max_edge_change_deg);
+  r.check(p.global_ba_max_edge_change_deg > 0.0, "global_ba_max_edge_change_deg", "must be > 0");
   r.finish();
   return p;
 }
@@ -345,12 +349,25 @@ void LoopCloser::run_global_ba(std::uint64_t run) {
   const auto t0 = std::chrono::steady_clock::now();
   optim::GlobalBundleAdjustmentParams gp;
   gp.iterations = params_.global_ba_iterations;
+  gp.max_edge_change_m = params_.global_ba_max_edge_change_m;
+  gp.max_edge_change_deg = params_.global_ba_max_edge_change_deg;
   const auto s = optim::global_bundle_adjustment(map_, run, threaded_ ? &abort_global_ba_ : nullptr, gp);
-  spdlog::info("global BA after loop at keyframe {}: {} keyframes, {} points, rms {:.2f} -> {:.2f} px{}", run,
-               s.keyframes, s.points, s.initial_rms_px, s.final_rms_px, s.aborted ? " (aborted)" : "");
+  if (s.implausible)
+    spdlog::warn(
+        "global BA after loop at keyframe {} rejected: it would move keyframe {} by {:.3f} m and "
+        "{:.1f} deg against its parent (limits {} m, {} deg); the map keeps the pose-graph result",
+        run, s.worst_keyframe, s.largest_edge_change_m, s.largest_edge_change_deg, gp.max_edge_change_m,
+        gp.max_edge_change_deg);
+  else
+    spdlog::info(
+        "global BA after loop at keyframe {}: {} keyframes, {} points, rms {:.2f} -> {:.2f} px, "
+        "keyframes moved against their parents by up to {:.3f} m{}",
+        run, s.keyframes, s.points, s.initial_rms_px, s.final_rms_px, s.largest_edge_change_m,
+        s.aborted ? " (aborted)" : "");
   std::lock_guard lock(stats_mutex_);
   ++stats_.global_bundle_adjustments;
   if (s.aborted) ++stats_.aborted_global_bundle_adjustments;
+  if (s.implausible) ++stats_.implausible_global_bundle_adjustments;
   stats_.global_ba_seconds += seconds_since(t0);
 }
 

@@ -46,6 +46,10 @@ struct LoopClosingParams {
   int pose_graph_iterations = 20;
   bool global_ba = true;
   int global_ba_iterations = 10;
+  // A global BA result that moves a keyframe further against its spanning-tree parent is
+  // implausible and not merged (optim/global_bundle_adjuster.h).
+  double global_ba_max_edge_change_m = 0.1;
+  double global_ba_max_edge_change_deg = 5.0;
   // Reads the `loop_closing` section of the config (and finishes it); relative paths are
   // relative to `base_dir` (the config file's folder).
   static LoopClosingParams from_config(config::NodeReader reader, const std::filesystem::path& base_dir);
@@ -66,7 +70,8 @@ struct LoopCloserStats {
   int rejected_loops = 0;  // detected, but contradicted by the map (loop_agreement.h)
   int global_bundle_adjustments = 0;
   int aborted_global_bundle_adjustments = 0;
-  double seconds = 0.0;  // detection and correction (global BA not included)
+  int implausible_global_bundle_adjustments = 0;  // solved but not merged
+  double seconds = 0.0;                           // detection and correction (global BA not included)
   double global_ba_seconds = 0.0;
 };
 

@@ -20,6 +20,14 @@ struct GlobalBundleAdjustmentParams {
   int iterations = 10;
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
+  // Plausibility (reliability issue, item 1): global BA refines a map the pose graph has already
+  // made consistent; it moves a keyframe against its spanning-tree parent by millimetres. A result
+  // that moves one by more than this has found another minimum, pulled by structure that is not
+  // rigid (points on people kept by `static` mode: rms 4-6 px there against 0.6 px on a static
+  // scene), and would tear the trajectory apart (jumps of 0.5-1.2 m between consecutive frames
+  // on walking_xyz). It is not merged.
+  double max_edge_change_m = 0.1;
+  double max_edge_change_deg = 5.0;
 };
 
 struct GlobalBundleAdjustmentStats {
@@ -29,7 +37,11 @@ struct GlobalBundleAdjustmentStats {
   int propagated_keyframes = 0;  // created during the solve, corrected through the spanning tree
   double initial_rms_px = 0.0;
   double final_rms_px = 0.0;
-  bool aborted = false;  // stopped by `abort` (a new loop): nothing was merged
+  bool aborted = false;                // stopped by `abort` (a new loop): nothing was merged
+  bool implausible = false;            // a keyframe moved too far against its parent: nothing merged
+  double largest_edge_change_m = 0.0;  // over the spanning tree's edges among the solved keyframes
+  double largest_edge_change_deg = 0.0;
+  std::uint64_t worst_keyframe = 0;  // the child of the edge that changed most
 };
 
 // `run` tags the keyframes this run optimizes (distinct per call).

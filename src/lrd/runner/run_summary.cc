@@ -116,6 +116,7 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       {"loop_closing", r.loop_closing},
       {"vocabulary", r.vocabulary},
       {"global_bundle_adjustments", r.map.global_bundle_adjustments},
+      {"implausible_global_bundle_adjustments", r.map.implausible_global_bundle_adjustments},
       {"rejected_loops", r.map.rejected_loops},
       {"mode", r.mode},
       {"segmentation", r.segmentation},
