@@ -46,6 +46,7 @@ struct RunCli {
   std::string sequence, settings, preset, config, out, mode, segmenter, segmenter_model, save_masks,
       save_repaired;
   bool dense = false;
+  bool occupancy = false;
   bool no_loop_closing = false;
   std::string vocabulary;
   bool realtime = false;
@@ -65,6 +66,16 @@ void print_dense(const runner::DenseReport& d) {
     std::printf(", median depth error %.1f mm vs the static scene", 1e3 * *d.repair_median_depth_error);
   std::printf("\n");
   if (d.map) std::printf("dense map vs scene: %s\n", eval::describe(*d.map).c_str());
+}
+
+void print_occupancy(const runner::OccupancyReport& r) {
+  std::printf(
+      "occupancy: %zu occupied, %zu free voxels at %.0f cm (built in %.2f s); floor at %.2f m; 2-D grid "
+      "%dx%d: "
+      "%zu occupied, %zu free cells\n",
+      r.occupied_voxels, r.free_voxels, 100.0 * r.resolution, r.build_seconds, r.floor_height, r.grid_width,
+      r.grid_height, r.grid_occupied, r.grid_free);
+  if (r.accuracy) std::printf("occupancy vs scene: %s\n", eval::describe(*r.accuracy).c_str());
 }
 
 void print_report(const runner::RunReport& r) {
@@ -111,9 +122,11 @@ void print_report(const runner::RunReport& r) {
     std::printf("RPE RMSE: %.4f m/s  %.3f deg/s\n", r.rpe_trans_rmse, r.rpe_rot_rmse);
   }
   if (r.dense) print_dense(*r.dense);
+  if (r.occupancy) print_occupancy(*r.occupancy);
   std::string written;
-  for (const char* f : {"CameraTrajectory.txt", "KeyFrameTrajectory.txt", "track_times.txt", "summary.json",
-                        "dense_map.ply", "dense_map.png"})
+  for (const char* f :
+       {"CameraTrajectory.txt", "KeyFrameTrajectory.txt", "track_times.txt", "summary.json", "dense_map.ply",
+        "dense_map.png", "occupancy.bt", "occupancy_2d.pgm", "occupancy_2d.yaml", "occupancy_2d.png"})
     if (std::filesystem::exists(r.out / f)) written += (written.empty() ? "" : ", ") + std::string(f);
   std::printf("wrote %s/{%s}\n", r.out.string().c_str(), written.c_str());
 }
@@ -162,6 +175,10 @@ void register_run_command(CLI::App& app) {
   cmd->add_flag("--dense", cli->dense,
                 "Dense map: background repair of the keyframes and a coloured point cloud (dense_map.ply, "
                 "dense_map.png)");
+  cmd->add_flag("--occupancy", cli->occupancy,
+                "Occupancy map for navigation (implies --dense): an OctoMap (occupancy.bt) and a 2-D grid in "
+                "ROS map_server format (occupancy_2d.pgm/.yaml, occupancy_2d.png with the path). --dense "
+                "writes them too unless the config's occupancy.enabled is false");
   cmd->add_option("--save-repaired", cli->save_repaired,
                   "Write each keyframe's repaired colour and depth (with the originals) to this folder");
   cmd->add_option("--max-frames", cli->max_frames, "Stop after this many frames (0: all)");
@@ -195,6 +212,7 @@ void register_run_command(CLI::App& app) {
     if (!cli->save_masks.empty()) o.save_masks = cli->save_masks;
     if (!cli->save_repaired.empty()) o.save_repaired = cli->save_repaired;
     o.dense = cli->dense;
+    if (cli->occupancy) o.occupancy = true;
     o.no_loop_closing = cli->no_loop_closing;
     if (!cli->vocabulary.empty()) o.vocabulary = cli->vocabulary;
     o.realtime = cli->realtime;

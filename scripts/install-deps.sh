@@ -11,6 +11,7 @@ PACKAGES=(
   # libraries
   libopencv-dev libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev zlib1g-dev
   nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
+  liboctomap-dev octomap-tools  # the occupancy map (issue 25); octovis-free tools to inspect .bt files
   # Python side (tests, reference evaluators, FNet training) — always /usr/bin/python3
   python3 python3-numpy python3-opencv python3-pytest python3-yaml
   python3-torch python3-onnx python3-pil  # FNet: training, ONNX export fix-up, VOC palette labels

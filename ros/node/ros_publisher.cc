@@ -2,6 +2,8 @@
 
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <ros/console.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
@@ -12,6 +14,7 @@
 #include <string>
 
 #include "lrd/system.h"
+#include "lrd/util/thread_priority.h"
 #include "lrd_ros/image_messages.h"
 #include "lrd_ros/pose_messages.h"
 
@@ -78,6 +81,7 @@ RosPublisher::RosPublisher(ros::NodeHandle& node, PublisherSettings settings)
       map_points_(node.advertise<sensor_msgs::PointCloud2>("map_points", 1, true)),
       keyframes_(node.advertise<visualization_msgs::MarkerArray>("keyframes", 1, true)),
       dense_map_(node.advertise<sensor_msgs::PointCloud2>("dense_map", 1, true)),
+      occupancy_(node.advertise<nav_msgs::OccupancyGrid>("occupancy", 1, true)),
       mask_(node.advertise<sensor_msgs::Image>("dynamic_mask", 2)),
       overlay_(node.advertise<sensor_msgs::Image>("overlay", 2)),
       state_(node.advertise<std_msgs::String>("state", 1, true)) {
@@ -92,6 +96,36 @@ RosPublisher::RosPublisher(ros::NodeHandle& node, PublisherSettings settings)
     t.child_frame_id = settings_.map_frame;
     t.transform = transform_message(T_world_map);
     static_tf_.sendTransform(t);
+  }
+  occupancy_thread_ = std::thread([this] { occupancy_loop(); });
+}
+
+RosPublisher::~RosPublisher() {
+  {
+    std::lock_guard lock(occupancy_mutex_);
+    occupancy_stop_ = true;
+  }
+  occupancy_wake_.notify_all();
+  occupancy_thread_.join();
+}
+
+void RosPublisher::occupancy_loop() {
+  (void)lrd::util::lower_this_thread_priority();
+  std::unique_lock lock(occupancy_mutex_);
+  for (;;) {
+    occupancy_wake_.wait(lock, [this] { return occupancy_stop_ || occupancy_wanted_; });
+    if (occupancy_stop_) return;
+    occupancy_wanted_ = false;
+    lock.unlock();
+    try {
+      publish_occupancy();
+    } catch (const std::exception& e) {
+      ROS_WARN_THROTTLE(10.0, "lrdslam: occupancy grid not published: %s", e.what());
+    }
+    lock.lock();
+    // The period counts from the end of the build; a stop ends the wait.
+    occupancy_wake_.wait_for(lock, std::chrono::duration<double>(settings_.occupancy_period_s),
+                             [this] { return occupancy_stop_; });
   }
 }
 
@@ -169,6 +203,11 @@ void RosPublisher::on_map_changed(const lrd::events::MapChanged& /*e*/) {
 }
 
 void RosPublisher::on_dense_map(const lrd::events::DenseMapUpdated& /*e*/) {
+  {
+    std::lock_guard lock(occupancy_mutex_);
+    occupancy_wanted_ = true;
+  }
+  occupancy_wake_.notify_one();
   if (!due(last_dense_, settings_.dense_period_s)) return;
   publish_dense_map();
   last_dense_ = Clock::now();
@@ -240,6 +279,28 @@ void RosPublisher::publish_dense_map() {
     }
   }
   dense_map_.publish(cloud);
+}
+
+void RosPublisher::publish_occupancy() {
+  if (system_ == nullptr || !system_->occupancy_enabled()) return;
+  std::optional<lrd::occupancy::Occupancy> occupancy;
+  shared([&] { occupancy.emplace(system_->occupancy()); });
+  const lrd::occupancy::Grid2d& grid = occupancy->grid;
+  nav_msgs::OccupancyGrid message;
+  message.header.stamp = ros::Time::now();
+  message.header.frame_id = settings_.map_frame;
+  message.info.map_load_time = message.header.stamp;
+  message.info.resolution = static_cast<float>(grid.resolution);
+  message.info.width = static_cast<std::uint32_t>(grid.width);
+  message.info.height = static_cast<std::uint32_t>(grid.height);
+  // Cell (0, 0)'s corner on the floor, the grid's axes along the floor: the floor frame in the map
+  // frame (whose axes are the first camera's, not z-up).
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  origin.linear() = grid.floor.rotation.transpose();
+  origin.translation() = grid.floor.to_map(Eigen::Vector3d(grid.origin.x(), grid.origin.y(), 0.0));
+  message.info.origin = pose_message(origin);
+  message.data.assign(grid.cells.begin(), grid.cells.end());
+  occupancy_.publish(message);
 }
 
 }  // namespace lrd_ros

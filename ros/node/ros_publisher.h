@@ -12,11 +12,13 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <chrono>
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <shared_mutex>
 #include <string>
+#include <thread>
 
 #include "lrd/events/event_publisher.h"
 #include "lrd/io/trajectory.h"
@@ -30,14 +32,19 @@ struct PublisherSettings {
   // A z-up frame over the map (whose axes are the first camera's: x right, y down, z forward),
   // published once as a static transform so rviz's orbit view has the floor below; "" : none.
   std::string world_frame = "world";
-  double map_period_s = 1.0;    // map_points and keyframes at most this often
-  double dense_period_s = 5.0;  // dense_map at most this often (it merges every keyframe's cloud)
-  double path_period_s = 1.0;   // the growing path at most this often (and after loops and saves)
+  double map_period_s = 1.0;        // map_points and keyframes at most this often
+  double dense_period_s = 5.0;      // dense_map at most this often (it merges every keyframe's cloud)
+  double occupancy_period_s = 5.0;  // occupancy at most this often (it casts every keyframe's rays)
+  double path_period_s = 1.0;       // the growing path at most this often (and after loops and saves)
 };
 
 class RosPublisher final : public lrd::events::Subscriber {
  public:
   RosPublisher(ros::NodeHandle& private_node, PublisherSettings settings);
+  // Stops the occupancy thread (after the build it may be in).
+  ~RosPublisher() override;
+  RosPublisher(const RosPublisher&) = delete;
+  RosPublisher& operator=(const RosPublisher&) = delete;
 
   // Before the first frame: the system it may query, and the images' frame_id (the camera frame
   // when ~camera_frame is not set).
@@ -58,6 +65,8 @@ class RosPublisher final : public lrd::events::Subscriber {
   // The sparse map and keyframes now, and (with the dense stage) the dense map.
   void publish_map();
   void publish_dense_map();
+  // The 2-D occupancy grid now (with the dense stage and occupancy.enabled). Any thread.
+  void publish_occupancy();
 
   // System::reset replaces the map the queries above read: it runs alone (the tracking thread),
   // the queries (this publisher's thread, the node's services) beside each other.
@@ -79,7 +88,7 @@ class RosPublisher final : public lrd::events::Subscriber {
   const PublisherSettings settings_;
   const lrd::System* system_ = nullptr;
   std::string camera_frame_;
-  ros::Publisher pose_, path_, map_points_, keyframes_, dense_map_, mask_, overlay_, state_;
+  ros::Publisher pose_, path_, map_points_, keyframes_, dense_map_, occupancy_, mask_, overlay_, state_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
 
@@ -92,6 +101,16 @@ class RosPublisher final : public lrd::events::Subscriber {
 
   std::string last_state_;
   std::optional<Clock::time_point> last_map_, last_dense_;
+
+  // The occupancy grid is built on its own thread (seconds on a long map: casting every keyframe's
+  // rays), below tracking's priority, so the publisher thread stays free for the path a loop
+  // corrects: a dense update asks for a build, the thread builds at most every
+  // occupancy_period_s, from the end of the last build.
+  void occupancy_loop();
+  std::mutex occupancy_mutex_;
+  std::condition_variable occupancy_wake_;
+  bool occupancy_wanted_ = false, occupancy_stop_ = false;
+  std::thread occupancy_thread_;
 };
 
 }  // namespace lrd_ros

@@ -156,6 +156,20 @@ dense::PointCloud System::dense_map() const {
   return impl_->pipe->dense ? impl_->pipe->dense->cloud() : dense::PointCloud{};
 }
 
+bool System::occupancy_enabled() const {
+  return impl_->pipe->dense != nullptr && impl_->params.occupancy.enabled;
+}
+
+const occupancy::OccupancyParams& System::occupancy_params() const {
+  return impl_->params.occupancy;
+}
+
+occupancy::Occupancy System::occupancy() const {
+  const auto clouds = impl_->pipe->dense ? impl_->pipe->dense->keyframe_clouds()
+                                         : std::vector<dense::DenseMapper::KeyframeCloud>{};
+  return occupancy::build_occupancy(clouds, impl_->params.occupancy);
+}
+
 dense::RepairTotals System::repair_totals() const {
   return impl_->pipe->dense ? impl_->pipe->dense->repair_totals() : dense::RepairTotals{};
 }

@@ -23,6 +23,7 @@
 #include "lrd/io/trajectory.h"
 #include "lrd/loop/loop_closer.h"
 #include "lrd/map/map_memory.h"
+#include "lrd/occupancy/occupancy_builder.h"
 #include "lrd/segmentation/segmentation_params.h"
 #include "lrd/system_params.h"
 #include "lrd/tracking/tracking_state.h"
@@ -125,6 +126,13 @@ class System {
   [[nodiscard]] dense::RepairTotals repair_totals() const;
   // Called in the dense thread after each keyframe's background repair; set before tracking.
   void set_repair_callback(dense::DenseMapper::RepairCallback callback);
+  // --- occupancy (issue 25): with the dense stage unless occupancy.enabled is false
+  [[nodiscard]] bool occupancy_enabled() const;
+  [[nodiscard]] const occupancy::OccupancyParams& occupancy_params() const;
+  // The OctoMap, floor and 2-D grid of the dense stage's keyframes at their current poses, built
+  // in the caller's thread (seconds on a long run: not in a tracking callback). Empty without the
+  // dense stage.
+  [[nodiscard]] occupancy::Occupancy occupancy() const;
 
  private:
   struct Impl;

@@ -10,6 +10,7 @@
 #include "lrd/dynamic/dynamic_params.h"
 #include "lrd/loop/loop_closer.h"
 #include "lrd/mapping/local_mapper.h"
+#include "lrd/occupancy/occupancy_params.h"
 #include "lrd/segmentation/segmentation_params.h"
 #include "lrd/tracking/tracker_params.h"
 
@@ -26,6 +27,8 @@ struct SystemOptions {
   std::optional<segmentation::SegmentationParams> segmentation;
   // Replaces the config's dense.enabled (the CLI's --dense): background repair and the dense map.
   std::optional<bool> dense;
+  // Replaces the config's occupancy.enabled (the CLI's --occupancy, which implies --dense).
+  std::optional<bool> occupancy;
   // Replaces the config's loop_closing.enabled (the CLI's --no-loop-closing) and vocabulary.
   std::optional<bool> loop_closing;
   std::optional<std::filesystem::path> vocabulary;
@@ -40,6 +43,7 @@ struct SystemParams {
   segmentation::SegmentationParams segmentation;
   loop::LoopClosingParams loop_closing;
   dense::DenseParams dense;
+  occupancy::OccupancyParams occupancy;  // built from the dense stage's keyframes
 
   // Reads every section of `config` once, then applies `options`' overrides.
   [[nodiscard]] static SystemParams from_config(const config::Config& config,

@@ -1,14 +1,19 @@
 """`lrdslam run --dense` (issue 7) on a short synthetic walking sequence in full mode: the people's
 pixels in the keyframes are repaired with the static scene's depth, the dense map has no ghosts of
 people and covers what the camera saw (judged against scene.ply), `eval-map` agrees with the run,
-the PLY is readable, and the dense map is byte-identical in deterministic mode."""
+the PLY is readable, and the dense map is byte-identical in deterministic mode. The same run writes
+the occupancy map and 2-D grid (issue 25): OctoMap and map_server files, judged against the scene
+(precision, recall, no people on the grid along their paths)."""
 import json
 import re
+import shutil
 import struct
+import subprocess
 
 import cv2
 import numpy as np
 import pytest
+import yaml
 
 from cli import lrdslam
 
@@ -99,7 +104,8 @@ def test_dense_map_is_byte_identical_in_deterministic_mode(walking, tmp_path):
     for name in ("a", "b"):
         lrdslam("run", "--sequence", walking, "--out", tmp_path / name, "--quiet", "--deterministic",
                 "--mode", "full", "--segmenter", "gt-masks", "--dense", "--max-frames", 60)
-        runs.append((tmp_path / name / "dense_map.ply").read_bytes())
+        runs.append([(tmp_path / name / f).read_bytes() for f in ("dense_map.ply", "occupancy.bt",
+                                                                 "occupancy_2d.pgm", "occupancy_2d.yaml")])
     assert runs[0] == runs[1]
 
 
@@ -108,3 +114,74 @@ def test_eval_map_names_a_missing_map(walking, tmp_path):
     assert r.returncode == 1
     line = r.stderr.strip().splitlines()[-1]
     assert "dense_map.ply" in line and line.startswith("error:")
+
+
+def test_occupancy_map_and_grid_match_the_scene_without_the_people(dense_run):
+    out, s, stdout = dense_run
+    o = s["occupancy"]
+    assert o["resolution"] == 0.05
+    assert o["occupied_voxels"] > 1000 and o["free_voxels"] > 10 * o["occupied_voxels"] / 2
+    scene = o["scene"]
+    assert scene["precision"] >= 0.95  # issue 25's bars, full mode
+    assert scene["recall"] >= 0.90
+    assert scene["people_voxels"] > 100  # the people were there to be carved
+    assert scene["people_ghost_share"] <= 0.01
+    assert scene["path_cells"] > 100
+    assert scene["path_blocked_cells"] == 0
+    assert scene["grid_precision"] >= 0.95 and scene["grid_recall"] >= 0.90
+    # The camera looks level at the start: up is close to the first camera's -y.
+    assert o["up"][1] < -0.9
+    assert (out / "run" / "occupancy.bt").read_bytes().startswith(b"# Octomap OcTree binary file")
+    assert "occupancy vs scene" in stdout and "people's path: 0 of" in stdout
+
+
+def test_occupancy_grid_is_a_map_server_map(dense_run):
+    out, s, _ = dense_run
+    meta = yaml.safe_load((out / "run" / "occupancy_2d.yaml").read_text())
+    assert meta["image"] == "occupancy_2d.pgm"
+    assert meta["resolution"] == pytest.approx(0.05)
+    assert len(meta["origin"]) == 3 and meta["negate"] == 0
+    assert meta["occupied_thresh"] == 0.65 and meta["free_thresh"] == 0.196
+    pgm = cv2.imread(str(out / "run" / meta["image"]), cv2.IMREAD_UNCHANGED)
+    assert pgm.dtype == np.uint8
+    assert pgm.shape == (s["occupancy"]["grid_height"], s["occupancy"]["grid_width"])
+    assert set(np.unique(pgm)) <= {0, 205, 254}
+    assert np.count_nonzero(pgm == 0) == s["occupancy"]["grid_occupied_cells"]
+    assert np.count_nonzero(pgm == 254) == s["occupancy"]["grid_free_cells"]
+    picture = cv2.imread(str(out / "run" / "occupancy_2d.png"))
+    assert picture is not None and min(picture.shape[:2]) >= pgm.shape[0] // 2
+    blue = (picture[:, :, 0] > 150) & (picture[:, :, 1] < 120) & (picture[:, :, 2] < 60)
+    assert np.count_nonzero(blue) > 50  # the trajectory is drawn
+
+
+def test_occupancy_bt_opens_in_octomaps_own_tools(dense_run, tmp_path):
+    # octomap-tools (scripts/install-deps.sh) reads the file as octovis does: every occupied voxel.
+    if shutil.which("bt2vrml") is None:
+        pytest.skip("octomap-tools is not installed (scripts/install-deps.sh installs it)")
+    out, s, _ = dense_run
+    shutil.copy(out / "run" / "occupancy.bt", tmp_path / "map.bt")
+    r = subprocess.run(["bt2vrml", "map.bt"], cwd=tmp_path, capture_output=True, text=True, check=True)
+    written = int(re.search(r"Finished writing (\d+) voxels", r.stdout + r.stderr).group(1))
+    assert written == s["occupancy"]["occupied_voxels"]
+    assert (tmp_path / "map.bt.wrl").read_text().count("Box { size 0.05 0.05 0.05}") == written
+
+
+def test_eval_map_judges_the_occupancy_like_the_run(dense_run, walking):
+    out, s, _ = dense_run
+    r = lrdslam("eval-map", "--run", out / "run", "--sequence", walking)
+    m = re.search(r"occupied voxels: precision ([\d.]+) %, recall ([\d.]+) %", r.stdout)
+    assert m, r.stdout
+    assert float(m.group(1)) == pytest.approx(100 * s["occupancy"]["scene"]["precision"], abs=0.05)
+    assert float(m.group(2)) == pytest.approx(100 * s["occupancy"]["scene"]["recall"], abs=0.05)
+    assert r.stderr == ""  # OctoMap's own chatter stays out
+
+
+def test_bad_occupancy_settings_stop_before_tracking(walking, tmp_path):
+    config = tmp_path / "bad.yaml"
+    config.write_text("occupancy:\n  min_height: 1.5\n  max_height: 0.2\n")
+    r = lrdslam("run", "--sequence", walking, "--config", config, "--occupancy", "--quiet",
+                "--out", tmp_path / "out", check=False)
+    assert r.returncode == 1
+    line = r.stderr.strip().splitlines()[-1]
+    assert line.startswith("error:") and "bad.yaml:3" in line and "occupancy.max_height" in line
+    assert not (tmp_path / "out" / "CameraTrajectory.txt").exists()

@@ -142,6 +142,7 @@ Config load_config(const std::filesystem::path& path) {
   cfg.dynamic = top.section("dynamic");
   cfg.segmentation = top.section("segmentation");
   cfg.dense = top.section("dense");
+  cfg.occupancy = top.section("occupancy");
   cfg.loop_closing = top.section("loop_closing");
   top.finish();
   return cfg;

@@ -34,6 +34,7 @@ struct Config {
   NodeReader dynamic;
   NodeReader segmentation;
   NodeReader dense;
+  NodeReader occupancy;
   NodeReader loop_closing;
 };
 

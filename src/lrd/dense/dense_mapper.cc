@@ -205,33 +205,38 @@ PointCloud DenseMapper::keyframe_cloud(const RgbdView& view, const cv::Mat& excl
   return grid.cloud();
 }
 
-PointCloud DenseMapper::cloud() const {
+std::vector<DenseMapper::KeyframeCloud> DenseMapper::keyframe_clouds() const {
   // Under mutex_: which clouds there are, and their votes (the clouds themselves never change).
-  std::vector<const Stored*> parts;
-  std::vector<std::vector<std::uint8_t>> votes;
+  std::vector<KeyframeCloud> out;
+  const int min_votes = params_.free_space.votes;
   {
     std::lock_guard lock(mutex_);
+    out.reserve(stored_.size());
     for (const Stored& s : stored_) {
-      parts.push_back(&s);
-      votes.push_back(s.votes);
+      KeyframeCloud c;
+      c.keyframe_id = s.keyframe_id;
+      c.local = &s.local;
+      c.kept.resize(s.votes.size());
+      for (std::size_t k = 0; k < s.votes.size(); ++k) c.kept[k] = min_votes == 0 || s.votes[k] < min_votes;
+      out.push_back(std::move(c));
     }
   }
-  std::vector<Eigen::Isometry3d> T_wc(parts.size());
-  {
-    std::lock_guard map_lock(map_.mutex());
-    for (std::size_t i = 0; i < parts.size(); ++i)
-      T_wc[i] = map_.resolve_pose(parts[i]->keyframe_id).inverse();
-  }
+  std::lock_guard map_lock(map_.mutex());
+  for (KeyframeCloud& c : out) c.T_wc = map_.resolve_pose(c.keyframe_id).inverse();
+  return out;
+}
+
+PointCloud DenseMapper::cloud() const {
+  const std::vector<KeyframeCloud> parts = keyframe_clouds();
   VoxelGrid grid(params_.voxel_size);
   std::size_t total = 0;
-  for (const Stored* part : parts) total += part->local.size();
+  for (const KeyframeCloud& part : parts) total += part.local->size();
   grid.reserve(total / 2);
-  const int min_votes = params_.free_space.votes;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    const Eigen::Isometry3f T = T_wc[i].cast<float>();
-    const PointCloud& c = parts[i]->local;
+  for (const KeyframeCloud& part : parts) {
+    const Eigen::Isometry3f T = part.T_wc.cast<float>();
+    const PointCloud& c = *part.local;
     for (std::size_t k = 0; k < c.size(); ++k)
-      if (min_votes == 0 || votes[i][k] < min_votes) grid.add(T * c.points[k], c.colours[k]);
+      if (part.kept[k]) grid.add(T * c.points[k], c.colours[k]);
   }
   return grid.cloud();
 }

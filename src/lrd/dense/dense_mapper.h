@@ -5,6 +5,7 @@
 // voxel-downsampled) and kept with the keyframe. The map is assembled on request with the
 // keyframes' current poses, so when local BA or loop closing moves a keyframe, its points move
 // with it. The thread runs at a lower OS priority than tracking, which never waits for it.
+#include <Eigen/Geometry>
 #include <condition_variable>
 #include <deque>
 #include <exception>
@@ -71,6 +72,18 @@ class DenseMapper {
   // map mutex briefly to read poses.
   [[nodiscard]] PointCloud cloud() const;
   [[nodiscard]] RepairTotals repair_totals() const;
+
+  // One keyframe's cloud as the dense stage keeps it: in the camera frame (z = the measured
+  // depth), with the keyframe's current pose and which points are in the map (the rest other
+  // keyframes saw through). The occupancy map casts its rays from these (occupancy/).
+  struct KeyframeCloud {
+    std::uint64_t keyframe_id = 0;
+    Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();
+    const PointCloud* local = nullptr;  // valid while the mapper lives
+    std::vector<char> kept;
+  };
+  // Every keyframe's, in the order they were added. Takes the map mutex briefly to read poses.
+  [[nodiscard]] std::vector<KeyframeCloud> keyframe_clouds() const;
 
  private:
   // Keyframes by id: they may be culled and freed meanwhile (the map still resolves their poses).

@@ -7,51 +7,10 @@
 #include <limits>
 #include <unordered_map>
 
-#include "lrd/dense/voxel_key.h"
+#include "lrd/eval/point_grid.h"
 #include "lrd/util/error.h"
 
 namespace lrd::eval {
-
-namespace {
-
-// Points hashed into cubes of the search radius: a query looks at the 27 cubes around it.
-class PointGrid {
- public:
-  PointGrid(const std::vector<Eigen::Vector3f>& points, double cell) : points_(points), inv_(1.0 / cell) {
-    if (!(cell > 0.0)) throw Error("map accuracy: the distance threshold must be > 0");
-    cells_.reserve(points.size() / 4 + 1);
-    for (std::size_t i = 0; i < points.size(); ++i)
-      if (points[i].allFinite()) cells_[key(cell_of(points[i]))].push_back(static_cast<std::uint32_t>(i));
-  }
-
-  // Distance to the nearest point if one lies within the cell size, else infinity.
-  [[nodiscard]] double nearest(const Eigen::Vector3f& p) const {
-    if (!p.allFinite()) return std::numeric_limits<double>::infinity();
-    const Eigen::Vector3i c = cell_of(p);
-    float best = std::numeric_limits<float>::infinity();
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
-          if (it == cells_.end()) continue;
-          for (std::uint32_t i : it->second) best = std::min(best, (points_[i] - p).squaredNorm());
-        }
-    const double d = std::sqrt(static_cast<double>(best));
-    return d <= 1.0 / inv_ ? d : std::numeric_limits<double>::infinity();
-  }
-
- private:
-  [[nodiscard]] Eigen::Vector3i cell_of(const Eigen::Vector3f& p) const {
-    return {static_cast<int>(std::floor(p.x() * inv_)), static_cast<int>(std::floor(p.y() * inv_)),
-            static_cast<int>(std::floor(p.z() * inv_))};
-  }
-  static std::uint64_t key(const Eigen::Vector3i& c) { return dense::voxel_key(c.x(), c.y(), c.z()); }
-  const std::vector<Eigen::Vector3f>& points_;
-  double inv_;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
-};
-
-}  // namespace
 
 std::vector<char> seen_samples(const std::vector<Eigen::Vector3f>& samples,
                                const camera::PinholeCamera& camera, const std::vector<TruthView>& views,

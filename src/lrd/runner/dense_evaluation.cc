@@ -1,12 +1,9 @@
 #include "lrd/runner/dense_evaluation.h"
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 
-#include "lrd/dense/ply_io.h"
-#include "lrd/eval/ate.h"
 #include "lrd/util/error.h"
 
 namespace lrd::runner {
@@ -87,68 +84,6 @@ RepairRecorder::DepthError RepairRecorder::depth_error() const {
     d.median = errors[errors.size() / 2];
   }
   return d;
-}
-
-eval::MapAccuracy evaluate_dense_map(const dense::PointCloud& map, const io::Trajectory& estimate,
-                                     const fs::path& sequence, const camera::PinholeCamera& camera,
-                                     double max_depth, double threshold, int frame_stride) {
-  const fs::path scene_file = sequence / "scene.ply";
-  if (!fs::exists(scene_file)) throw file_error(scene_file, "no scene model to judge the dense map against");
-  const io::TumSequence seq = io::TumSequence::open(sequence);
-  if (!seq.groundtruth_path()) throw file_error(sequence, "no groundtruth.txt to align the map with");
-  const io::Trajectory gt = io::read_trajectory_tum(*seq.groundtruth_path());
-  eval::AteResult ate;
-  try {
-    ate = eval::compute_ate(gt, estimate);
-  } catch (const Error& e) {
-    throw file_error(*seq.groundtruth_path(),
-                     std::string("cannot align the map's trajectory with it: ") + e.what());
-  }
-  const dense::PointCloud scene = dense::read_ply(scene_file);
-
-  // The map goes onto the ground truth by the rigid transform that best maps the estimated
-  // camera poses onto the true ones — rotations and positions, not positions alone as ATE does:
-  // a camera that hardly moves (walking_static) leaves the rotation of a position-only fit
-  // undetermined, and the whole map would be judged tilted.
-  Eigen::Matrix3d rotations = Eigen::Matrix3d::Zero();
-  for (const eval::Match& m : ate.matches)
-    rotations += gt[m.first].pose.linear() * estimate[m.second].pose.linear().transpose();
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(rotations, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
-  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0) S(2, 2) = -1.0;
-  Eigen::Isometry3d alignment = Eigen::Isometry3d::Identity();
-  alignment.linear() = svd.matrixU() * S * svd.matrixV().transpose();
-  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
-  for (const eval::Match& m : ate.matches)
-    offset += gt[m.first].pose.translation() - alignment.linear() * estimate[m.second].pose.translation();
-  alignment.translation() = offset / static_cast<double>(ate.matches.size());
-
-  std::vector<Eigen::Vector3f> aligned(map.size());
-  const Eigen::Isometry3f A = alignment.cast<float>();
-  for (std::size_t i = 0; i < map.size(); ++i) aligned[i] = A * map.points[i];
-
-  // Ground-truth views: poses by timestamp from groundtruth.txt (synthetic: one per frame).
-  std::unordered_map<long long, Eigen::Isometry3d> gt_pose;
-  for (const io::StampedPose& p : gt) gt_pose[micros(p.timestamp)] = p.pose;
-  std::vector<eval::TruthView> views;
-  for (std::size_t i = 0; i < seq.size(); i += static_cast<std::size_t>(std::max(1, frame_stride))) {
-    const auto it = gt_pose.find(micros(seq.entry(i).timestamp));
-    if (it == gt_pose.end()) continue;
-    eval::TruthView v;
-    v.T_cw = it->second.inverse();
-    v.depth = seq.load_rgbd(i, camera.depth_map_factor).depth;
-    const fs::path mask_file = sequence / "mask" / seq.entry(i).rgb_path.filename();
-    if (fs::exists(mask_file)) {
-      v.dynamic = cv::imread(mask_file.string(), cv::IMREAD_UNCHANGED);
-      if (v.dynamic.type() != CV_8UC1 || v.dynamic.size() != v.depth.size())
-        throw file_error(mask_file, "mask must be an 8-bit single-channel PNG of the depth image's size");
-    }
-    views.push_back(std::move(v));
-  }
-  if (views.empty())
-    throw file_error(*seq.groundtruth_path(), "no ground-truth pose at any frame's timestamp");
-  const std::vector<char> seen = eval::seen_samples(scene.points, camera, views, max_depth);
-  return eval::evaluate_map(aligned, scene.points, seen, threshold);
 }
 
 }  // namespace lrd::runner

@@ -58,14 +58,4 @@ class RepairRecorder final : public events::Subscriber {
   std::vector<Filled> filled_;
 };
 
-// The dense map (in the estimate's world frame, aligned onto the ground truth by the rigid
-// transform that best maps the estimated camera poses onto the true ones) against `sequence`/scene.ply; the
-// samples count as seen when every `frame_stride`-th frame's depth shows them. Throws lrd::Error naming what
-// is missing.
-[[nodiscard]] eval::MapAccuracy evaluate_dense_map(const dense::PointCloud& map,
-                                                   const io::Trajectory& estimate,
-                                                   const std::filesystem::path& sequence,
-                                                   const camera::PinholeCamera& camera, double max_depth,
-                                                   double threshold = 0.05, int frame_stride = 5);
-
 }  // namespace lrd::runner

@@ -115,6 +115,7 @@ SystemParams configure_system(const RunOptions& o, const config::Config& cfg) {
   sopts.deterministic = o.deterministic;
   if (o.mode) sopts.mode = dynamic::parse_mode(*o.mode);
   if (o.dense || o.save_repaired) sopts.dense = true;
+  sopts.occupancy = o.occupancy;
   if (o.no_loop_closing) sopts.loop_closing = false;
   if (o.vocabulary) sopts.vocabulary = *o.vocabulary;
   SystemParams p = SystemParams::from_config(cfg, sopts);

@@ -183,6 +183,31 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
                            {"covered_samples", d.map->covered_samples},
                            {"completeness", d.map->completeness()}};
   }
+  if (r.occupancy) {
+    const OccupancyReport& o = *r.occupancy;
+    j["occupancy"] = {{"resolution", o.resolution},      {"occupied_voxels", o.occupied_voxels},
+                      {"free_voxels", o.free_voxels},    {"up", {o.up.x(), o.up.y(), o.up.z()}},
+                      {"floor_height", o.floor_height},  {"grid_width", o.grid_width},
+                      {"grid_height", o.grid_height},    {"grid_occupied_cells", o.grid_occupied},
+                      {"grid_free_cells", o.grid_free},  {"grid_unknown_cells", o.grid_unknown},
+                      {"build_seconds", o.build_seconds}};
+    if (o.accuracy) {
+      const eval::OccupancyAccuracy& a = *o.accuracy;
+      j["occupancy"]["scene"] = {{"precision", a.precision()},
+                                 {"recall", a.recall()},
+                                 {"occupied_voxels", a.occupied_voxels},
+                                 {"seen_scene_voxels", a.seen_scene_voxels},
+                                 {"people_voxels", a.people_voxels},
+                                 {"people_ghosts", a.people_ghosts},
+                                 {"people_ghost_share", a.people_ghost_share()},
+                                 {"grid_precision", a.grid_precision()},
+                                 {"grid_recall", a.grid_recall()},
+                                 {"path_cells", a.path_cells},
+                                 {"path_blocked_cells", a.path_blocked_cells},
+                                 {"path_free_cells", a.path_free_cells},
+                                 {"path_blocked_share", a.path_blocked_share()}};
+    }
+  }
   std::ofstream out(file);
   out << j.dump(2) << '\n';
   out.close();

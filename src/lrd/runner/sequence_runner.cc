@@ -13,8 +13,6 @@
 #include <thread>
 
 #include "lrd/config/orbslam_settings.h"
-#include "lrd/dense/cloud_renderer.h"
-#include "lrd/dense/ply_io.h"
 #include "lrd/dynamic/dynamic_params.h"
 #include "lrd/eval/ate.h"
 #include "lrd/eval/rpe.h"
@@ -23,6 +21,7 @@
 #include "lrd/io/trajectory.h"
 #include "lrd/io/tum_sequence.h"
 #include "lrd/runner/dense_evaluation.h"
+#include "lrd/runner/map_outputs.h"
 #include "lrd/runner/progress_bar.h"
 #include "lrd/runner/run_recorder.h"
 #include "lrd/segmentation/onnx_presets.h"
@@ -31,44 +30,6 @@
 namespace lrd::runner {
 
 namespace fs = std::filesystem;
-
-namespace {
-// Writes the dense map and its picture, and judges repair and map where the sequence has truth.
-DenseReport finish_dense(const System& slam, const RepairRecorder& repairs, const RunOptions& o,
-                         const io::Trajectory& trajectory, const camera::PinholeCamera& camera,
-                         double max_depth) {
-  DenseReport d;
-  const auto t0 = std::chrono::steady_clock::now();
-  const dense::PointCloud cloud = slam.dense_map();
-  d.assemble_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  d.points = cloud.size();
-  dense::write_ply(o.out / "dense_map.ply", cloud);
-  const io::Trajectory keyframes = slam.keyframe_trajectory();
-  if (!keyframes.empty() && cloud.size() > 0) {
-    const cv::Mat picture =
-        dense::render_cloud(cloud, camera, dense::overview_pose(cloud, keyframes.front().pose));
-    const fs::path png = o.out / "dense_map.png";
-    if (!cv::imwrite(png.string(), picture)) throw file_error(png, "cannot write");
-  }
-  d.repair = slam.repair_totals();
-  if (repairs.has_truth()) {
-    const RepairRecorder::DepthError e = repairs.depth_error();
-    if (e.pixels > 0) {
-      d.repair_median_depth_error = e.median;
-      d.repair_compared_pixels = e.pixels;
-    }
-  }
-  if (const fs::path folder = data_folder(o);
-      !folder.empty() && fs::exists(folder / "scene.ply") && trajectory.size() >= 2) {
-    try {
-      d.map = evaluate_dense_map(cloud, trajectory, folder, camera, max_depth);
-    } catch (const std::exception& e) {
-      spdlog::warn("dense map not judged: {}", e.what());
-    }
-  }
-  return d;
-}
-}  // namespace
 
 namespace {
 
@@ -138,8 +99,7 @@ void evaluate(RunReport& report, const System& slam, const RunOptions& o, const 
                    seq.ground_truth_origin(), e.what());
     }
   }
-  if (slam.dense_enabled())
-    report.dense = finish_dense(slam, *repairs, o, trajectory, cfg.camera, params.dense.max_depth);
+  if (slam.dense_enabled()) finish_maps(report, slam, *repairs, o, trajectory, cfg.camera, params);
   write_summary_json(o.out / "summary.json", report);
 }
 

@@ -14,6 +14,7 @@
 
 #include "lrd/config/config.h"
 #include "lrd/eval/map_accuracy.h"
+#include "lrd/eval/occupancy_accuracy.h"
 #include "lrd/eval/statistics.h"
 #include "lrd/io/frame_source.h"
 #include "lrd/system.h"
@@ -40,6 +41,9 @@ struct RunOptions {
   // Dense map (background repair + point cloud): writes dense_map.ply and dense_map.png, and judges
   // the map against scene.ply when the sequence has one.
   bool dense = false;
+  // true: the occupancy map and 2-D grid (occupancy.bt, occupancy_2d.*), implying the dense stage;
+  // false: not even with it; unset: the config's occupancy.enabled with the dense stage.
+  std::optional<bool> occupancy;
   // Writes each repaired keyframe (colour, depth, mask; originals beside them) here; implies the
   // dense stage's repair.
   std::optional<std::filesystem::path> save_repaired;
@@ -129,6 +133,18 @@ struct DenseReport {
   std::optional<eval::MapAccuracy> map;  // vs scene.ply (synthetic benchmark)
 };
 
+// The occupancy outputs (occupancy.bt, occupancy_2d.*; issue 25).
+struct OccupancyReport {
+  double resolution = 0.0;
+  std::size_t occupied_voxels = 0, free_voxels = 0;
+  Eigen::Vector3d up = Eigen::Vector3d::Zero();  // map frame
+  double floor_height = 0.0;                     // along up from the map origin
+  int grid_width = 0, grid_height = 0;
+  std::size_t grid_occupied = 0, grid_free = 0, grid_unknown = 0;
+  double build_seconds = 0.0;                       // ray casting every keyframe at its final pose
+  std::optional<eval::OccupancyAccuracy> accuracy;  // vs scene.ply (synthetic benchmark)
+};
+
 struct RunReport {
   std::filesystem::path out;  // the output folder written
   bool interrupted = false;   // stopped early by RunOptions::interrupt
@@ -159,6 +175,7 @@ struct RunReport {
   std::size_t ate_pairs = 0;
   eval::ErrorStats ate, rpe_trans, rpe_rot;  // full statistics (m; m/s and deg/s at delta 1 s)
   std::optional<DenseReport> dense;
+  std::optional<OccupancyReport> occupancy;
 };
 
 // Runs a sequence in three steps: configure (camera, config, SystemParams with the segmenter

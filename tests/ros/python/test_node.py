@@ -49,18 +49,20 @@ class Recorder:
         "map_points": "sensor_msgs/PointCloud2",
         "keyframes": "visualization_msgs/MarkerArray",
         "dense_map": "sensor_msgs/PointCloud2",  # with ~dense only
+        "occupancy": "nav_msgs/OccupancyGrid",  # with ~dense only
     }
 
     def __init__(self):
         import rospy
         from geometry_msgs.msg import PoseStamped
-        from nav_msgs.msg import Path
+        from nav_msgs.msg import OccupancyGrid, Path
         from sensor_msgs.msg import Image, PointCloud2
         from std_msgs.msg import String
         from visualization_msgs.msg import MarkerArray
 
         types = {"pose": PoseStamped, "path": Path, "state": String, "dynamic_mask": Image, "overlay": Image,
-                 "map_points": PointCloud2, "keyframes": MarkerArray, "dense_map": PointCloud2}
+                 "map_points": PointCloud2, "keyframes": MarkerArray, "dense_map": PointCloud2,
+                 "occupancy": OccupancyGrid}
         self.lock = threading.Lock()
         self.messages = {t: [] for t in types}
         self.types = {}
@@ -158,7 +160,7 @@ def test_the_node_tracks_a_bag_and_publishes_what_rviz_shows(master, sequence, t
     # keeps up with (it drops the oldest frame events when behind: under ASan and a loaded
     # machine, most); a latched state on change; the map throttled.
     for topic, expected in Recorder.TOPICS.items():
-        assert recorder.types.get(topic) == (None if topic == "dense_map" else expected), topic
+        assert recorder.types.get(topic) == (None if topic in ("dense_map", "occupancy") else expected), topic
     assert all(m.header.frame_id == "map" for m in poses)
     assert 0 < len(recorder.messages["dynamic_mask"]) <= summary["tracked"]
     assert len(recorder.messages["overlay"]) == len(recorder.messages["dynamic_mask"])
@@ -301,6 +303,41 @@ def test_after_a_loop_closure_the_path_is_corrected_and_matches_the_saved_trajec
     dense = recorder.messages["dense_map"]
     assert dense and dense[-1].width > 10000
     assert [f.name for f in dense[-1].fields] == ["x", "y", "z", "rgb"]
+
+    # The occupancy grid, latched: on the floor, the camera's path through free cells.
+    grid = recorder.messages["occupancy"]
+    assert grid, node.output()[-2000:]
+    g = grid[-1]
+    assert g.header.frame_id == "map" and g.info.resolution == pytest.approx(0.05)
+    assert len(g.data) == g.info.width * g.info.height > 100
+    assert set(g.data) <= {-1, 0, 100} and {0, 100} <= set(g.data)
+    # The grid lies on the floor: the camera's height above it is the true one (the synthetic
+    # room's floor is z = 0), and the camera never stands on an occupied cell.
+    truth = {round(float(r.split()[0]), 3): float(r.split()[3])
+             for r in (d / "groundtruth.txt").read_text().splitlines() if r and not r.startswith("#")}
+    heights, cells = [], []
+    for p in path.poses[::10]:
+        (_, _, height), cell = on_grid(g, p.pose.position)
+        heights.append(height - truth[round(p.header.stamp.to_sec(), 3)])
+        cells.append(cell)
+    assert max(abs(h) for h in heights) < 0.05, heights
+    assert 100 not in cells and cells.count(0) >= len(cells) // 3, cells
+
+
+def on_grid(grid, point):
+    """A map-frame point in the OccupancyGrid's frame (x, y on the floor, z the height above it) and
+    the value of the cell under it (None outside the grid)."""
+    o = grid.info.origin
+    x, y, z, w = o.orientation.x, o.orientation.y, o.orientation.z, o.orientation.w
+    assert abs(x * x + y * y + z * z + w * w - 1.0) < 1e-6
+    r = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+    d = [point.x - o.position.x, point.y - o.position.y, point.z - o.position.z]
+    gx, gy, gz = (sum(r[k][i] * d[k] for k in range(3)) for i in range(3))  # R^T d
+    col, row = int(gx // grid.info.resolution), int(gy // grid.info.resolution)
+    inside = 0 <= col < grid.info.width and 0 <= row < grid.info.height
+    return (gx, gy, gz), (grid.data[row * grid.info.width + col] if inside else None)
 
 
 def test_a_bad_parameter_stops_the_node_with_one_line(master, tmp_path):

@@ -1,0 +1,223 @@
+#include "lrd/occupancy/occupancy_map.h"
+
+#include <fcntl.h>
+#include <octomap/OcTree.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <unordered_map>
+
+#include "lrd/util/error.h"
+
+namespace lrd::occupancy {
+
+struct OccupancyMap::Tree {
+  explicit Tree(const OccupancyParams& p) : tree(p.resolution) {
+    tree.setProbHit(p.prob_hit);
+    tree.setProbMiss(p.prob_miss);
+    tree.setClampingThresMin(p.clamp_min);
+    tree.setClampingThresMax(p.clamp_max);
+  }
+  octomap::OcTree tree;
+};
+
+namespace {
+octomap::point3d to_octomap(const Eigen::Vector3d& p) {
+  return {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};
+}
+Eigen::Vector3d to_eigen(const octomap::point3d& p) {
+  return {p.x(), p.y(), p.z()};
+}
+// Sends stderr (file descriptor 2 and std::cerr) to /dev/null while it lives.
+class QuietStderr {
+ public:
+  QuietStderr() : saved_(::dup(2)), cerr_(std::cerr.rdbuf(sink_.rdbuf())) {
+    std::fflush(stderr);
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null >= 0) {
+      ::dup2(null, 2);
+      ::close(null);
+    }
+  }
+  ~QuietStderr() {
+    std::fflush(stderr);
+    if (saved_ >= 0) {
+      ::dup2(saved_, 2);
+      ::close(saved_);
+    }
+    std::cerr.rdbuf(cerr_);
+  }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  int saved_;
+  std::ostringstream sink_;
+  std::streambuf* cerr_;
+};
+
+float log_odds(double p) {
+  return static_cast<float>(std::log(p / (1.0 - p)));
+}
+}  // namespace
+
+OccupancyMap::OccupancyMap(const OccupancyParams& params)
+    : params_(params), tree_(std::make_unique<Tree>(params)) {}
+OccupancyMap::~OccupancyMap() = default;
+OccupancyMap::OccupancyMap(OccupancyMap&&) noexcept = default;
+OccupancyMap& OccupancyMap::operator=(OccupancyMap&&) noexcept = default;
+
+double OccupancyMap::resolution() const {
+  return tree_->tree.getResolution();
+}
+
+float OccupancyMap::hit_log_odds(const OccupancyParams& p, double z) {
+  const double sigma = p.depth_noise * z * z;
+  const double inside = sigma <= 0.0 ? 1.0 : std::erf(p.resolution / (2.0 * std::sqrt(2.0) * sigma));
+  return log_odds(0.5 + (p.prob_hit - 0.5) * inside);
+}
+
+void OccupancyMap::integrate(const RayBundle& rays) {
+  octomap::OcTree& tree = tree_->tree;
+  const octomap::point3d origin = to_octomap(rays.origin);
+  // Each ray's end voxel once (rays ending in one voxel share their path up to the resolution,
+  // as OctoMap's discretized insertion): its smallest depth (the most certain hit), whether any
+  // ray ends there on a surface, and its centre (or the cut point of a ray longer than max_range).
+  struct End {
+    float depth;
+    bool hit;
+  };
+  std::unordered_map<octomap::OcTreeKey, End, octomap::OcTreeKey::KeyHash> ends;
+  const float max_range = static_cast<float>(params_.max_range);
+  for (std::size_t i = 0; i < rays.points.size(); ++i) {
+    const Eigen::Vector3f& p = rays.points[i];
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3f d = p - rays.origin.cast<float>();
+    const float z = rays.depth[i];
+    if (!(z > 0.0f) || !(d.squaredNorm() > 0.0f)) continue;
+    bool hit = rays.hit[i] != 0;
+    Eigen::Vector3f end = p;
+    if (z > max_range) {  // cut where its depth reaches max_range: free up to there, no surface
+      end = rays.origin.cast<float>() + d * (max_range / z);
+      hit = false;
+    }
+    octomap::OcTreeKey key;
+    if (!tree.coordToKeyChecked(octomap::point3d(end.x(), end.y(), end.z()), key)) continue;
+    auto [it, fresh] = ends.try_emplace(key, End{rays.depth[i], hit});
+    if (!fresh) {
+      it->second.depth = std::min(it->second.depth, rays.depth[i]);
+      it->second.hit = it->second.hit || hit;
+    }
+  }
+  octomap::KeySet free;
+  octomap::KeyRay ray;
+  for (const auto& [key, end] : ends) {
+    if (tree.computeRayKeys(origin, tree.keyToCoord(key), ray)) free.insert(ray.begin(), ray.end());
+    if (!end.hit) free.insert(key);  // seen through: the end voxel is free too
+  }
+  // A voxel another ray ends on stays a surface.
+  const float miss = log_odds(params_.prob_miss);
+  for (const octomap::OcTreeKey& key : free) {
+    const auto e = ends.find(key);
+    if (e == ends.end() || !e->second.hit) tree.updateNode(key, miss, true);
+  }
+  for (const auto& [key, end] : ends)
+    if (end.hit) tree.updateNode(key, hit_log_odds(params_, end.depth), true);
+  tree.updateInnerOccupancy();
+}
+
+VoxelState OccupancyMap::state_at(const Eigen::Vector3d& p) const {
+  const octomap::OcTreeNode* node = tree_->tree.search(to_octomap(p));
+  if (node == nullptr) return VoxelState::Unknown;
+  return tree_->tree.isNodeOccupied(node) ? VoxelState::Occupied : VoxelState::Free;
+}
+
+bool OccupancyMap::has_occupied_neighbour(const Eigen::Vector3d& p) const {
+  const double res = resolution();
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz)
+        if ((dx != 0 || dy != 0 || dz != 0) &&
+            state_at(p + Eigen::Vector3d(dx, dy, dz) * res) == VoxelState::Occupied)
+          return true;
+  return false;
+}
+
+std::vector<OccupancyMap::Voxel> OccupancyMap::voxels() const {
+  const octomap::OcTree& tree = tree_->tree;
+  const double res = tree.getResolution();
+  std::vector<Voxel> out;
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    const bool occupied = tree.isNodeOccupied(*it);
+    const double size = it.getSize();
+    const int n = std::max(1, static_cast<int>(std::lround(size / res)));  // a pruned leaf: n^3 voxels
+    const Eigen::Vector3d corner = to_eigen(it.getCoordinate()) - Eigen::Vector3d::Constant(size / 2.0);
+    for (int x = 0; x < n; ++x)
+      for (int y = 0; y < n; ++y)
+        for (int z = 0; z < n; ++z)
+          out.push_back(
+              {corner + (Eigen::Vector3d(x, y, z) + Eigen::Vector3d::Constant(0.5)) * res, occupied});
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3d> OccupancyMap::occupied_voxels() const {
+  std::vector<Eigen::Vector3d> out;
+  for (const Voxel& v : voxels())
+    if (v.occupied) out.push_back(v.centre);
+  return out;
+}
+
+std::vector<Eigen::Vector3d> OccupancyMap::free_voxels() const {
+  std::vector<Eigen::Vector3d> out;
+  for (const Voxel& v : voxels())
+    if (!v.occupied) out.push_back(v.centre);
+  return out;
+}
+
+std::size_t OccupancyMap::occupied_count() const {
+  return occupied_voxels().size();
+}
+
+std::size_t OccupancyMap::free_count() const {
+  return free_voxels().size();
+}
+
+void OccupancyMap::write_binary(const std::filesystem::path& file) const {
+  std::ofstream out(file, std::ios::binary);
+  if (!out) throw file_error(file, "cannot write");
+  // The const writer: the tree is not pruned or thresholded in place.
+  bool ok = false;
+  {
+    const QuietStderr quiet;  // "Writing ... done." (runs after the system's threads stopped)
+    ok = tree_->tree.writeBinaryConst(out) && out.flush();
+  }
+  if (!ok) throw file_error(file, "cannot write");
+}
+
+OccupancyMap OccupancyMap::read_binary(const std::filesystem::path& file, const OccupancyParams& params) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw file_error(file, "cannot read");
+  std::string header;
+  std::getline(in, header);
+  if (header.rfind("# Octomap OcTree binary file", 0) != 0)
+    throw file_error(file, "not an OctoMap binary file (.bt)");
+  in.seekg(0);
+  OccupancyMap map(params);
+  // OctoMap reports on stderr as it reads (std::cerr and fprintf); the outcome is ours to tell in
+  // one line, so its chatter goes to /dev/null meanwhile (the readers are single-threaded tools).
+  bool ok = false;
+  {
+    const QuietStderr quiet;
+    ok = map.tree_->tree.readBinary(in);
+  }
+  if (!ok) throw file_error(file, "corrupt OctoMap binary file");
+  map.params_.resolution = map.tree_->tree.getResolution();
+  return map;
+}
+
+}  // namespace lrd::occupancy
