@@ -101,12 +101,16 @@ RosPublisher::RosPublisher(ros::NodeHandle& node, PublisherSettings settings)
 }
 
 RosPublisher::~RosPublisher() {
+  stop_occupancy();
+}
+
+void RosPublisher::stop_occupancy() {
   {
     std::lock_guard lock(occupancy_mutex_);
     occupancy_stop_ = true;
   }
   occupancy_wake_.notify_all();
-  occupancy_thread_.join();
+  if (occupancy_thread_.joinable()) occupancy_thread_.join();
 }
 
 void RosPublisher::occupancy_loop() {

@@ -43,6 +43,9 @@ class RosPublisher final : public lrd::events::Subscriber {
   RosPublisher(ros::NodeHandle& private_node, PublisherSettings settings);
   // Stops the occupancy thread (after the build it may be in).
   ~RosPublisher() override;
+  // The same, before the system it reads goes away (the node's stop). Idempotent; not concurrent
+  // with the destructor.
+  void stop_occupancy();
   RosPublisher(const RosPublisher&) = delete;
   RosPublisher& operator=(const RosPublisher&) = delete;
 

@@ -225,6 +225,19 @@ void SlamNode::save(const fs::path& dir, std::string* message) {
   *message = fmt::format("{} poses to {}", trajectory.size(), (dir / "CameraTrajectory.txt").string());
 }
 
+void SlamNode::save_occupancy(const fs::path& dir) {
+  const lrd::System& system = *system_->system;
+  if (!system.occupancy_enabled()) return;
+  // The maps a planner loads next time (map_server), from the final keyframe poses.
+  try {
+    std::vector<Eigen::Vector3d> path;
+    for (const lrd::io::StampedPose& p : system.trajectory()) path.push_back(p.pose.translation());
+    lrd::occupancy::write_occupancy(system.occupancy(), system.occupancy_params(), path, dir);
+  } catch (const std::exception& e) {
+    ROS_ERROR("lrdslam: occupancy map not written: %s", e.what());
+  }
+}
+
 bool SlamNode::on_save_trajectory(std_srvs::Trigger::Request& /*request*/,
                                   std_srvs::Trigger::Response& response) {
   try {
@@ -247,6 +260,7 @@ bool SlamNode::on_reset(std_srvs::Trigger::Request& /*request*/, std_srvs::Trigg
 void SlamNode::stop() {
   if (stopped_) return;
   stopped_ = true;
+  publisher_->stop_occupancy();  // its thread reads the system, which ends after this
   frames_.close();
   if (tracker_.joinable()) tracker_.join();
   NodeCounts counts;
@@ -266,6 +280,7 @@ void SlamNode::stop() {
     }
     save(params_.output_dir, &saved);
     loops = system_->system->map_stats().loops;
+    save_occupancy(params_.output_dir);
   }
   fs::create_directories(params_.output_dir);
   write_track_times(params_.output_dir / "track_times.txt", times_);

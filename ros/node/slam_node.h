@@ -81,6 +81,8 @@ class SlamNode {
   bool start_system(const Frame& first);
   void drop(std::size_t NodeCounts::*counter, const std::string& why);
   void save(const std::filesystem::path& dir, std::string* message);
+  // occupancy.bt and occupancy_2d.pgm/.yaml/.png into dir (with the dense stage), at stop.
+  void save_occupancy(const std::filesystem::path& dir);
 
   const NodeParams params_;
   const bool names_camera_;  // ~settings or ~config name the camera: no camera_info needed
