@@ -20,7 +20,7 @@ if [ ! -f "$SEQ/sequence.json" ]; then
   "$BIN" synth --preset walking_xyz --seed 1 --out "$SEQ"
 fi
 if [ -f models/fnet-lite.onnx ]; then MODE=(--mode full --segmenter fnet); else MODE=(--mode geometric); fi
-MODE+=(--dense)  # background repair and the dense map: dense_map.ply, dense_map.png
+MODE+=(--dense)  # background repair and the dense map (dense_map.ply/.png), the occupancy map (occupancy.bt, occupancy_2d.*)
 "$BIN" run --sequence "$SEQ" --out "$OUT/run" "${MODE[@]}"
 "$BIN" eval "$SEQ/groundtruth.txt" "$OUT/run/CameraTrajectory.txt" --json "$OUT/eval.json" --plot "$OUT/plots"
-echo "Sequence: $SEQ   trajectory: $OUT/run/CameraTrajectory.txt   dense map: $OUT/run/dense_map.ply   evaluation: $OUT/eval.json   plots: $OUT/plots"
+echo "Sequence: $SEQ   trajectory: $OUT/run/CameraTrajectory.txt   dense map: $OUT/run/dense_map.ply   occupancy grid: $OUT/run/occupancy_2d.png   evaluation: $OUT/eval.json   plots: $OUT/plots"
