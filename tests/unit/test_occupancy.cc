@@ -269,13 +269,14 @@ TEST(OccupancyParams, BadSettingsAreOneLineErrorsNamingTheKey) {
 }
 
 TEST(OccupancyAccuracy, CountsMatchesGhostsAndThePeoplesPath) {
-  lrd::eval::OccupancyTruth truth;
   // A wall at x = 2 from y = 0 to 1, z = 0 to 1.5 (samples every 1 cm); a person's points at
   // x = 1, y = 0.5, z = 0.2 to 1.6.
+  std::vector<Eigen::Vector3f> scene, people;
   for (double y = 0.0; y <= 1.0; y += 0.01)
-    for (double z = 0.0; z <= 1.5; z += 0.01) truth.scene.emplace_back(2.0f, y, z);
-  truth.seen.assign(truth.scene.size(), 1);
-  for (double z = 0.2; z <= 1.6; z += 0.05) truth.people.emplace_back(1.0f, 0.5f, z);
+    for (double z = 0.0; z <= 1.5; z += 0.01) scene.emplace_back(2.0f, y, z);
+  const std::vector<char> seen(scene.size(), 1);
+  for (double z = 0.2; z <= 1.6; z += 0.05) people.emplace_back(1.0f, 0.5f, z);
+  const lrd::eval::OccupancyTruth truth{scene, seen, people};
   // The map: the wall's voxels for y < 0.5 only (half recalled), one ghost voxel on the person.
   std::vector<Eigen::Vector3f> occupied;
   for (double y = 0.025; y < 0.5; y += 0.05)

@@ -39,11 +39,12 @@ struct OccupancyAccuracy {
   [[nodiscard]] double path_blocked_share() const { return share(path_blocked_cells, path_cells); }
 };
 
+// Views of the caller's data (a scene has a million samples: not copied).
 struct OccupancyTruth {
-  std::vector<Eigen::Vector3f> scene;         // static surface samples
-  std::vector<char> seen;                     // per scene sample: some frame saw it
-  std::vector<Eigen::Vector3f> people;        // the people's surfaces as the frames saw them
-  double min_height = 0.1, max_height = 1.8;  // the grid's band above the floor (z = 0)
+  const std::vector<Eigen::Vector3f>& scene;   // static surface samples
+  const std::vector<char>& seen;               // per scene sample: some frame saw it
+  const std::vector<Eigen::Vector3f>& people;  // the people's surfaces as the frames saw them
+  double min_height = 0.1, max_height = 1.8;   // the grid's band above the floor (z = 0)
 };
 
 // occupied: the map's occupied voxel centres; cells / cell_states: the grid's cell centres (at

@@ -38,7 +38,7 @@ Grid2d project_to_grid(const OccupancyMap& map, const FloorFrame& floor, double 
   };
   std::vector<Cell> band;
   long x0 = 0, y0 = 0, x1 = -1, y1 = -1;
-  map.for_each_voxel([&](const Eigen::Vector3d& centre, bool occupied) {
+  map.visit([&](const Eigen::Vector3d& centre, bool occupied) {
     const Eigen::Vector3d q = floor.to_floor(centre);
     if (q.z() < min_height || q.z() > max_height) return;
     if (occupied && filter_speckles && !map.has_occupied_neighbour(centre)) return;

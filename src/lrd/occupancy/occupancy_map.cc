@@ -1,13 +1,14 @@
 #include "lrd/occupancy/occupancy_map.h"
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <octomap/OcTree.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <iostream>
+#include <functional>
 #include <sstream>
 #include <unordered_map>
 
@@ -32,10 +33,10 @@ octomap::point3d to_octomap(const Eigen::Vector3d& p) {
 Eigen::Vector3d to_eigen(const octomap::point3d& p) {
   return {p.x(), p.y(), p.z()};
 }
-// Sends stderr (file descriptor 2 and std::cerr) to /dev/null while it lives.
+// Sends stderr (file descriptor 2, where OctoMap's fprintf reports go) to /dev/null while it lives.
 class QuietStderr {
  public:
-  QuietStderr() : saved_(::dup(2)), cerr_(std::cerr.rdbuf(sink_.rdbuf())) {
+  QuietStderr() : saved_(::dup(2)) {
     std::fflush(stderr);
     const int null = ::open("/dev/null", O_WRONLY);
     if (null >= 0) {
@@ -49,15 +50,12 @@ class QuietStderr {
       ::dup2(saved_, 2);
       ::close(saved_);
     }
-    std::cerr.rdbuf(cerr_);
   }
   QuietStderr(const QuietStderr&) = delete;
   QuietStderr& operator=(const QuietStderr&) = delete;
 
  private:
   int saved_;
-  std::ostringstream sink_;
-  std::streambuf* cerr_;
 };
 
 float log_odds(double p) {
@@ -147,10 +145,9 @@ bool OccupancyMap::has_occupied_neighbour(const Eigen::Vector3d& p) const {
   return false;
 }
 
-std::vector<OccupancyMap::Voxel> OccupancyMap::voxels() const {
+void OccupancyMap::visit(const std::function<void(const Eigen::Vector3d&, bool)>& fn) const {
   const octomap::OcTree& tree = tree_->tree;
   const double res = tree.getResolution();
-  std::vector<Voxel> out;
   for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
     const bool occupied = tree.isNodeOccupied(*it);
     const double size = it.getSize();
@@ -159,41 +156,35 @@ std::vector<OccupancyMap::Voxel> OccupancyMap::voxels() const {
     for (int x = 0; x < n; ++x)
       for (int y = 0; y < n; ++y)
         for (int z = 0; z < n; ++z)
-          out.push_back(
-              {corner + (Eigen::Vector3d(x, y, z) + Eigen::Vector3d::Constant(0.5)) * res, occupied});
+          fn(corner + (Eigen::Vector3d(x, y, z) + Eigen::Vector3d::Constant(0.5)) * res, occupied);
   }
-  return out;
 }
 
 std::vector<Eigen::Vector3d> OccupancyMap::occupied_voxels() const {
   std::vector<Eigen::Vector3d> out;
-  for (const Voxel& v : voxels())
-    if (v.occupied) out.push_back(v.centre);
+  visit([&out](const Eigen::Vector3d& centre, bool occupied) {
+    if (occupied) out.push_back(centre);
+  });
   return out;
 }
 
-std::vector<Eigen::Vector3d> OccupancyMap::free_voxels() const {
-  std::vector<Eigen::Vector3d> out;
-  for (const Voxel& v : voxels())
-    if (!v.occupied) out.push_back(v.centre);
-  return out;
-}
-
-std::size_t OccupancyMap::occupied_count() const {
-  return occupied_voxels().size();
-}
-
-std::size_t OccupancyMap::free_count() const {
-  return free_voxels().size();
+std::size_t OccupancyMap::count(VoxelState state) const {
+  std::size_t n = 0;
+  visit([&n, state](const Eigen::Vector3d&, bool occupied) {
+    n += (occupied ? VoxelState::Occupied : VoxelState::Free) == state;
+  });
+  return n;
 }
 
 void OccupancyMap::write_binary(const std::filesystem::path& file) const {
   std::ofstream out(file, std::ios::binary);
   if (!out) throw file_error(file, "cannot write");
-  // The const writer: the tree is not pruned or thresholded in place.
+  // The const writer: the tree is not pruned or thresholded in place. It reports "Writing N nodes
+  // ... done." with fprintf on stderr; that goes to /dev/null meanwhile (after the run, or at the
+  // node's stop: another thread's log line in these milliseconds would be lost too).
   bool ok = false;
   {
-    const QuietStderr quiet;  // "Writing ... done." (runs after the system's threads stopped)
+    const QuietStderr quiet;
     ok = tree_->tree.writeBinaryConst(out) && out.flush();
   }
   if (!ok) throw file_error(file, "cannot write");
@@ -202,21 +193,37 @@ void OccupancyMap::write_binary(const std::filesystem::path& file) const {
 OccupancyMap OccupancyMap::read_binary(const std::filesystem::path& file, const OccupancyParams& params) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw file_error(file, "cannot read");
-  std::string header;
-  std::getline(in, header);
-  if (header.rfind("# Octomap OcTree binary file", 0) != 0)
+  // The header (as OcTree::readBinary reads it, which reports on stderr: ours is one line).
+  std::string line;
+  std::getline(in, line);
+  if (line.rfind("# Octomap OcTree binary file", 0) != 0)
     throw file_error(file, "not an OctoMap binary file (.bt)");
-  in.seekg(0);
-  OccupancyMap map(params);
-  // OctoMap reports on stderr as it reads (std::cerr and fprintf); the outcome is ours to tell in
-  // one line, so its chatter goes to /dev/null meanwhile (the readers are single-threaded tools).
-  bool ok = false;
-  {
-    const QuietStderr quiet;
-    ok = map.tree_->tree.readBinary(in);
+  std::string id;
+  std::size_t size = 0;
+  double res = 0.0;
+  bool data = false;
+  while (!data && std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string key;
+    fields >> key;
+    if (key == "id")
+      fields >> id;
+    else if (key == "size")
+      fields >> size;
+    else if (key == "res")
+      fields >> res;
+    data = key == "data";
   }
-  if (!ok) throw file_error(file, "corrupt OctoMap binary file");
-  map.params_.resolution = map.tree_->tree.getResolution();
+  if (!data) throw file_error(file, "corrupt OctoMap binary file: no data");
+  if (id != "OcTree") throw file_error(file, "holds an OctoMap '" + id + "', not an OcTree");
+  if (!(res > 0.0)) throw file_error(file, "corrupt OctoMap binary file: no resolution");
+  OccupancyParams p = params;
+  p.resolution = res;
+  OccupancyMap map(p);
+  map.tree_->tree.readBinaryData(in);
+  if (map.tree_->tree.size() != size)
+    throw file_error(file, fmt::format("corrupt OctoMap binary file: {} nodes read, the header says {}",
+                                       map.tree_->tree.size(), size));
   return map;
 }
 

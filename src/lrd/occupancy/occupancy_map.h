@@ -8,6 +8,7 @@
 // OctoMap stays behind this interface (its headers are not part of lrd-slam's).
 #include <Eigen/Core>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -41,16 +42,14 @@ class OccupancyMap {
   [[nodiscard]] VoxelState state_at(const Eigen::Vector3d& p) const;
   // Whether one of the 26 voxels around the voxel at p is occupied.
   [[nodiscard]] bool has_occupied_neighbour(const Eigen::Vector3d& p) const;
-  // Centres of the occupied / free leaf voxels at full resolution (pruned nodes expanded).
+  // Centres of the occupied leaf voxels at full resolution (pruned nodes expanded).
   [[nodiscard]] std::vector<Eigen::Vector3d> occupied_voxels() const;
-  [[nodiscard]] std::vector<Eigen::Vector3d> free_voxels() const;
-  [[nodiscard]] std::size_t occupied_count() const;
-  [[nodiscard]] std::size_t free_count() const;
-  // Calls fn(centre, occupied) for every known voxel at full resolution.
-  template <class Fn>
-  void for_each_voxel(Fn&& fn) const {
-    for (const Voxel& v : voxels()) fn(v.centre, v.occupied);
-  }
+  // Known voxels at full resolution in `state` (Occupied or Free).
+  [[nodiscard]] std::size_t count(VoxelState state) const;
+  [[nodiscard]] std::size_t occupied_count() const { return count(VoxelState::Occupied); }
+  [[nodiscard]] std::size_t free_count() const { return count(VoxelState::Free); }
+  // Calls fn(centre, occupied) for every known voxel at full resolution (pruned nodes expanded).
+  void visit(const std::function<void(const Eigen::Vector3d&, bool)>& fn) const;
 
   // OctoMap's binary format (.bt: occupied / free bits; octovis opens it).
   void write_binary(const std::filesystem::path& file) const;
@@ -61,11 +60,6 @@ class OccupancyMap {
   [[nodiscard]] static float hit_log_odds(const OccupancyParams& params, double z);
 
  private:
-  struct Voxel {
-    Eigen::Vector3d centre;
-    bool occupied;
-  };
-  [[nodiscard]] std::vector<Voxel> voxels() const;
   struct Tree;
   OccupancyParams params_;
   std::unique_ptr<Tree> tree_;

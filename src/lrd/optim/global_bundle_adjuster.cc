@@ -17,11 +17,10 @@ namespace lrd::optim {
 namespace {
 // How far the solve moved each solved keyframe against its solved spanning-tree parent: the
 // change of their relative pose, translation and angle (call under the map mutex).
-void measure_edge_changes(const std::vector<map::KeyFrame*>& kfs, const std::vector<bool>& solved,
-                          const std::vector<PoseBlock>& before, const std::vector<PoseBlock>& after,
-                          GlobalBundleAdjustmentStats& stats) {
-  std::map<const map::KeyFrame*, std::size_t> index;
-  for (std::size_t i = 0; i < kfs.size(); ++i) index[kfs[i]] = i;
+void measure_edge_changes(const std::vector<map::KeyFrame*>& kfs,
+                          const std::map<const map::KeyFrame*, std::size_t>& index,
+                          const std::vector<bool>& solved, const std::vector<PoseBlock>& before,
+                          const std::vector<PoseBlock>& after, GlobalBundleAdjustmentStats& stats) {
   for (std::size_t i = 0; i < kfs.size(); ++i) {
     const map::KeyFrame* parent = kfs[i]->parent();
     const auto it = parent == nullptr ? index.end() : index.find(parent);
@@ -50,6 +49,7 @@ GlobalBundleAdjustmentStats global_bundle_adjustment(map::Map& map, std::uint64_
   std::vector<Observation> obs;
   Intrinsics k{};
   std::uint64_t change_index = 0;
+  std::map<const map::KeyFrame*, std::size_t> index;  // keyframe -> its pose block
   {
     std::lock_guard lock(map.mutex());
     change_index = map.big_change_index();
@@ -59,7 +59,6 @@ GlobalBundleAdjustmentStats global_bundle_adjustment(map::Map& map, std::uint64_
     k = {cam.fx, cam.fy, cam.cx, cam.cy, cam.bf, cam.disparity_sigma};
     // Keyframe 0 last, so that it is the one fixed pose block.
     std::rotate(kfs.begin(), kfs.begin() + 1, kfs.end());
-    std::map<const map::KeyFrame*, std::size_t> index;
     for (std::size_t i = 0; i < kfs.size(); ++i) {
       index[kfs[i]] = i;
       poses.push_back(to_block(kfs[i]->T_cw()));
@@ -109,7 +108,7 @@ GlobalBundleAdjustmentStats global_bundle_adjustment(map::Map& map, std::uint64_
   // queued for local mapping when the map was read) follows its parent below, or keeps its pose.
   std::vector<bool> observed(kfs.size(), false);
   for (const Observation& o : obs) observed[o.kf] = true;
-  measure_edge_changes(kfs, observed, initial_poses, poses, stats);
+  measure_edge_changes(kfs, index, observed, initial_poses, poses, stats);
   if (stats.largest_edge_change_m > params.max_edge_change_m ||
       stats.largest_edge_change_deg > params.max_edge_change_deg) {
     stats.implausible = true;

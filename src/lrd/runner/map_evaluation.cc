@@ -117,12 +117,8 @@ eval::OccupancyAccuracy evaluate_occupancy(const occupancy::OccupancyMap& map, c
                               grid.origin.y() + (y + 0.5) * grid.resolution, mid);
       cells.push_back((A * grid.floor.to_map(q)).cast<float>());
     }
-  eval::OccupancyTruth t;
-  t.scene = truth.scene.points;
-  t.seen = truth.seen;
-  t.people = truth.people;
-  t.min_height = grid.min_height;
-  t.max_height = grid.max_height;
+  const eval::OccupancyTruth t{truth.scene.points, truth.seen, truth.people, grid.min_height,
+                               grid.max_height};
   return eval::evaluate_occupancy(occupied, cells, grid.cells, t, map.resolution());
 }
 
