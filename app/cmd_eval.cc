@@ -27,6 +27,7 @@ struct EvalOptions {
   std::string plot_dir;
   double max_dt = 0.02;
   double delta = 1.0;
+  std::vector<std::string> align_with;  // GT_REF EST_REF: their best fit aligns EST (no fit of its own)
 };
 
 struct Evaluation {
@@ -34,10 +35,28 @@ struct Evaluation {
   eval::RpeResult rpe;
 };
 
+// --align-with GT_REF EST_REF: the rigid alignment fitted to another trajectory in the same map
+// (the session that made a map file), applied as is.
+Eigen::Isometry3d reference_alignment(const EvalOptions& opt) {
+  const std::string& gt_file = opt.align_with[0];
+  const std::string& est_file = opt.align_with[1];
+  try {
+    return eval::compute_ate(io::read_trajectory_tum(gt_file), io::read_trajectory_tum(est_file), opt.max_dt)
+        .alignment;
+  } catch (const Error& e) {
+    throw Error(fmt::format("--align-with: {} vs ground truth {}: {}", est_file, gt_file, e.what()));
+  }
+}
+
 Evaluation evaluate(const io::Trajectory& gt, const io::Trajectory& est, const std::string& gt_file,
                     const std::string& est_file, const EvalOptions& opt) {
   // The evaluators know no file names; say which files the problem is about.
   try {
+    if (!opt.align_with.empty()) {
+      Evaluation e{eval::compute_ate(gt, est, reference_alignment(opt), opt.max_dt),
+                   eval::compute_rpe(gt, est, opt.delta)};
+      return e;
+    }
     Evaluation e{eval::compute_ate(gt, est, opt.max_dt), eval::compute_rpe(gt, est, opt.delta)};
     return e;
   } catch (const Error& e) {
@@ -94,8 +113,12 @@ void print_table(const Evaluation& e, const EvalOptions& opt) {
     fmt::print("{:<22}{:>12.6f}{:>12.6f}{:>12.6f}{:>12.6f}{:>12.6f}{:>12.6f}{:>8}\n", r.name, s.rmse, s.mean,
                s.median, s.std_dev, s.min, s.max, s.count);
   }
-  fmt::print("ATE: {} pairs associated within {:g} s, rigidly aligned (no scale).\n", e.ate.stats.count,
-             opt.max_dt);
+  if (opt.align_with.empty())
+    fmt::print("ATE: {} pairs associated within {:g} s, rigidly aligned (no scale).\n", e.ate.stats.count,
+               opt.max_dt);
+  else
+    fmt::print("ATE: {} pairs associated within {:g} s, aligned as {} onto {} (no fit of its own).\n",
+               e.ate.stats.count, opt.max_dt, opt.align_with[1], opt.align_with[0]);
   fmt::print("RPE: all {} pairs {:g} s apart (no random subsampling).\n", e.rpe.trans.count, opt.delta);
 }
 
@@ -192,6 +215,11 @@ void register_eval_command(CLI::App& app) {
          "--plot", opt->plot_dir,
          "Write trajectory_top.png and ape_over_time.png to DIR (with --compare: DIR/baseline, DIR/ours)")
       ->type_name("DIR");
+  cmd->add_option("--align-with", opt->align_with,
+                  "GT_REF EST_REF: align EST with the rigid fit of EST_REF onto GT_REF instead of its own "
+                  "(a session tracked in a loaded map, judged in the frame of the session that made it)")
+      ->expected(2)
+      ->type_name("FILE");
   cmd->add_option("--max-dt", opt->max_dt, "Largest timestamp difference for ATE association, seconds")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

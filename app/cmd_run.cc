@@ -20,6 +20,8 @@
 namespace lrd::app {
 namespace {
 
+using runner::LocalizationLatency;
+
 // SIGINT / SIGTERM: the first stops reading frames (the run then writes its outputs and exits 130),
 // a second exits at once. Only async-signal-safe calls in the handler.
 std::atomic<bool> interrupt_requested{false};
@@ -54,6 +56,8 @@ struct RunCli {
   bool deterministic = false;
   bool quiet = false;
   std::size_t max_frames = 0;
+  std::string load_map, save_map;
+  bool localization_only = false;
   BagCli bag;
 };
 
@@ -80,8 +84,22 @@ void print_occupancy(const runner::OccupancyReport& r) {
 
 void print_report(const runner::RunReport& r) {
   std::printf("camera: %s\n", r.camera_source.c_str());
-  std::printf("frames: %zu  tracked: %zu  lost: %zu  not initialized: %zu\n", r.frames, r.tracked, r.lost,
+  std::printf("frames: %zu  tracked: %zu  lost: %zu  not initialized: %zu", r.frames, r.tracked, r.lost,
               r.not_initialized);
+  if (r.loaded_map)
+    std::printf("  not localized: %zu\nloaded map: %s (%zu keyframes, %zu map points)%s", r.not_localized,
+                r.loaded_map->string().c_str(), r.map.loaded_keyframes, r.map.loaded_map_points,
+                r.localization_only ? ", localization only" : "");
+  std::printf("\n");
+  if (r.loaded_map) {
+    const LocalizationLatency& l = r.localization;
+    std::printf("localized in the loaded map at frame %s",
+                l.first_localized_frame ? std::to_string(*l.first_localized_frame).c_str() : "- (never)");
+    if (l.first_view_frame)
+      std::printf(" (its first view of the map: frame %zu, %zu frames before)", *l.first_view_frame,
+                  l.frames().value_or(0));
+    std::printf("\n");
+  }
   std::printf("map: %zu keyframes (%zu culled), %zu map points, %zu local BAs\n", r.map.keyframes,
               r.map.culled_keyframes, r.map.map_points, r.map.bundle_adjustments);
   std::printf("mode: %s  segmentation: %s\n", r.mode.c_str(), r.segmentation.c_str());
@@ -129,6 +147,7 @@ void print_report(const runner::RunReport& r) {
         "dense_map.png", "occupancy.bt", "occupancy_2d.pgm", "occupancy_2d.yaml", "occupancy_2d.png"})
     if (std::filesystem::exists(r.out / f)) written += (written.empty() ? "" : ", ") + std::string(f);
   std::printf("wrote %s/{%s}\n", r.out.string().c_str(), written.c_str());
+  if (r.saved_map) std::printf("wrote map %s\n", r.saved_map->string().c_str());
 }
 
 }  // namespace
@@ -193,6 +212,13 @@ void register_run_command(CLI::App& app) {
                 "Switch loop closing off (ablations); relocalization stays");
   cmd->add_option("--vocabulary", cli->vocabulary,
                   "Bag-of-words vocabulary (lrdslam vocab train); default: the shipped vocab/orb_vocab.lrdv");
+  cmd->add_option("--load-map", cli->load_map,
+                  "Start from a map saved by --save-map (.lrdmap): the first frames relocalize against it, "
+                  "the trajectory is in its frame; without --localization-only the run extends it");
+  cmd->add_flag("--localization-only", cli->localization_only,
+                "With --load-map: track against the loaded map without adding keyframes or map points");
+  cmd->add_option("--save-map", cli->save_map,
+                  "Write the final sparse map (keyframes, map points, graphs) to this .lrdmap file");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->callback([cli] {
     if (cli->sequence.empty() == cli->bag.bag.empty())
@@ -215,6 +241,9 @@ void register_run_command(CLI::App& app) {
     if (cli->occupancy) o.occupancy = true;
     o.no_loop_closing = cli->no_loop_closing;
     if (!cli->vocabulary.empty()) o.vocabulary = cli->vocabulary;
+    if (!cli->load_map.empty()) o.load_map = cli->load_map;
+    if (!cli->save_map.empty()) o.save_map = cli->save_map;
+    o.localization_only = cli->localization_only;
     o.realtime = cli->realtime;
     o.preload = cli->preload;
     o.progress = !cli->quiet;

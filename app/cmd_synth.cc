@@ -38,6 +38,12 @@ void register_synth_command(CLI::App& app) {
                   "Run the preset's camera path this many times faster (e.g. static_loop at 2.5: its loop "
                   "closes near frame 210, for short tests)")
       ->check(CLI::Range(0.1, 10.0));
+  cmd->add_option(
+         "--session", opts->session,
+         "Map-file session: 1 is the preset's camera path; 2 and 3 see the same room and people from "
+         "another standpoint, starting turned away from session 1's view, in the same world frame")
+      ->check(CLI::Range(1, synth::CameraMotion::kMaxSession))
+      ->capture_default_str();
   auto blank = std::make_shared<std::string>();
   cmd->add_option(
       "--blank", *blank,

@@ -16,10 +16,13 @@
 
 namespace lrd::bench {
 
-// cache/PRESET (or cache/PRESET_FRAMES for a prefix), rendered when absent.
+// cache/PRESET (or cache/PRESET_FRAMES for a prefix; _sN for map-file session N > 1), rendered
+// when absent.
 inline std::filesystem::path ensure_sequence(const std::filesystem::path& cache, const std::string& preset,
-                                             int frames) {
-  const std::filesystem::path dir = cache / (frames > 0 ? fmt::format("{}_{}", preset, frames) : preset);
+                                             int frames, int session = 1) {
+  std::string name = frames > 0 ? fmt::format("{}_{}", preset, frames) : preset;
+  if (session != 1) name += fmt::format("_s{}", session);
+  const std::filesystem::path dir = cache / name;
   // scene.ply came later than the first cached sequences: those are rendered again.
   if (std::filesystem::exists(dir / "associations.txt") && std::filesystem::exists(dir / "scene.ply"))
     return dir;
@@ -28,6 +31,7 @@ inline std::filesystem::path ensure_sequence(const std::filesystem::path& cache,
   o.preset = preset;
   o.seed = 1;
   o.frames = frames;
+  o.session = session;
   const lrd::synth::SyntheticSequence seq(o);
   (void)lrd::synth::write_sequence(seq, dir);
   return dir;

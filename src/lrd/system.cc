@@ -59,13 +59,19 @@ System::Impl::Impl(const config::Config& cfg, SystemParams p, SystemOptions opts
   start_pipeline();
 }
 
+std::unique_ptr<Pipeline> System::Impl::make_pipeline(std::uint32_t generation) {
+  auto fresh = std::make_unique<Pipeline>(config, params, options.deterministic, vocabulary.get(), errors,
+                                          publisher, generation);
+  if (repair_callback && fresh->dense) fresh->dense->set_repair_callback(repair_callback);
+  fresh->tracker.set_localization_only(options.localization_only);
+  return fresh;
+}
+
 void System::Impl::start_pipeline() {
   // Built whole before it replaces the old one: a failure leaves `pipe` as it was.
-  auto fresh = std::make_unique<Pipeline>(config, params, options.deterministic, vocabulary.get(), errors,
-                                          publisher, next_generation);
-  if (repair_callback && fresh->dense) fresh->dense->set_repair_callback(repair_callback);
-  pipe = std::move(fresh);
+  pipe = make_pipeline(next_generation);
   ++next_generation;
+  loaded_keyframes = loaded_map_points = 0;
 }
 
 System::System(const config::Config& config, SystemOptions options)
@@ -189,6 +195,8 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
   Impl& s = *impl_;
   if (s.shut_down) throw Error("track_rgbd: the system has been shut down");
   if (!s.failure.empty()) throw Error(s.failure);
+  if (s.options.localization_only && s.loaded_keyframes == 0)
+    throw Error("track_rgbd: localization only needs a map to localize in: load one first (load_map)");
   s.publisher.seal();  // subscribers are registered before the first frame
   if (s.errors.has_error()) {
     s.failure = s.errors.message();

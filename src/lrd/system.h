@@ -58,7 +58,9 @@ struct MapStats {
   std::size_t culled_keyframes = 0;
   std::size_t bundle_adjustments = 0;
   std::size_t loops = 0;    // loops closed
-  int relocalizations = 0;  // times tracking was lost and relocalized
+  int relocalizations = 0;  // times tracking was lost (or not yet localized in a loaded map) and relocalized
+  std::size_t loaded_keyframes = 0;  // keyframes and map points load_map() brought in
+  std::size_t loaded_map_points = 0;
   int global_bundle_adjustments = 0;
   int implausible_global_bundle_adjustments = 0;  // solved but not merged (optim/global_bundle_adjuster.h)
   int rejected_loops = 0;  // detected but contradicted by the map (loop/loop_agreement.h)
@@ -87,7 +89,8 @@ class System {
   // error any worker thread met, as an lrd::Error naming the thread (so does track_rgbd).
   void shutdown();
   // Starts a new map in the same process: the threads of the current one finish and stop, a new
-  // map begins with the next frame (frame ids continue; the trajectory is the new map's).
+  // map begins with the next frame (frame ids continue; the trajectory is the new map's). A
+  // loaded map (load_map) goes too.
   void reset();
 
   // --- publishers (events/events.h). Register before the first frame; events are delivered on
@@ -103,6 +106,17 @@ class System {
   [[nodiscard]] io::Trajectory keyframe_trajectory() const;
   void save_trajectory_tum(const std::filesystem::path& file) const;
   void save_keyframe_trajectory_tum(const std::filesystem::path& file) const;
+
+  // --- map files (map/map_file.h, issue 20)
+  // Writes the map as it is now (after shutdown(): the final one) to `file` (.lrdmap). Throws
+  // lrd::Error naming the file.
+  void save_map(const std::filesystem::path& file) const;
+  // Starts from a saved map instead of an empty one: the first frames relocalize against it and
+  // are reported not-localized until one is placed; the trajectory is in the map's frame. Call
+  // before the first frame. Throws lrd::Error naming the file for a bad file, or one made with
+  // another vocabulary or camera; the system is then unchanged.
+  void load_map(const std::filesystem::path& file);
+  [[nodiscard]] bool localization_only() const;
 
   [[nodiscard]] MapStats map_stats() const;
   // Memory the map holds, and what reclamation freed (walks every object: not for every frame).

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "lrd/map/map_file.h"
 #include "lrd/pipeline.h"
 #include "lrd/system.h"
 
@@ -15,6 +16,10 @@ namespace lrd {
 struct System::Impl {
   Impl(const config::Config& cfg, SystemParams p, SystemOptions opts);
   void start_pipeline();
+  // A Pipeline for map number `generation` (threads started), not yet in use.
+  [[nodiscard]] std::unique_ptr<Pipeline> make_pipeline(std::uint32_t generation);
+  // What a map file records beside the map: camera and vocabulary (system_maps.cc).
+  [[nodiscard]] map::MapFileHeader map_file_header() const;
 
   TrackResult track(const cv::Mat& rgb, const cv::Mat& depth, double timestamp, const cv::Mat& mask);
   void publish_frame(const TrackResult& r, const tracking::TrackOutcome& outcome, const data::Frame& frame,
@@ -33,6 +38,7 @@ struct System::Impl {
   std::uint64_t next_frame_id = 0;
   double last_timestamp = -std::numeric_limits<double>::infinity();
   bool shut_down = false;
+  std::size_t loaded_keyframes = 0, loaded_map_points = 0;  // load_map()
   std::string failure;  // the error track_rgbd threw that stopped the system (empty: none)
 };
 

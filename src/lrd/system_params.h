@@ -32,6 +32,8 @@ struct SystemOptions {
   // Replaces the config's loop_closing.enabled (the CLI's --no-loop-closing) and vocabulary.
   std::optional<bool> loop_closing;
   std::optional<std::filesystem::path> vocabulary;
+  // Track against the map load_map() loaded without adding to it (the CLI's --localization-only).
+  bool localization_only = false;
   // A live viewer's bound on queued frame events (0: every frame is delivered).
   std::size_t max_queued_frame_events = 0;
 };

@@ -53,6 +53,46 @@ Frame::Frame(std::uint64_t id, double timestamp, const cv::Mat& grey, const cv::
   build_grid();
 }
 
+Frame::Frame(std::uint64_t id, double timestamp, const camera::PinholeCamera& camera, SavedFeatures features,
+             const Eigen::Isometry3d& T_cw)
+    : id_(id),
+      timestamp_(timestamp),
+      camera_(camera),
+      keypoints_(std::move(features.keypoints)),
+      undistorted_(std::move(features.undistorted)),
+      descriptors_(std::move(features.descriptors)),
+      depth_(std::move(features.depth)),
+      u_right_(std::move(features.u_right)),
+      close_depth_(static_cast<float>(camera.close_depth_threshold())),
+      level_sigma2_(std::move(features.level_sigma2)),
+      inv_level_sigma2_(std::move(features.inv_level_sigma2)),
+      scale_factors_(std::move(features.scale_factors)),
+      bounds_(features.bounds) {
+  const std::size_t n = keypoints_.size();
+  if (undistorted_.size() != n || depth_.size() != n || u_right_.size() != n ||
+      static_cast<std::size_t>(descriptors_.rows) != n || (n > 0 && descriptors_.cols != 32))
+    throw Error("frame " + std::to_string(id) + ": keypoints, descriptors and depths differ in number");
+  if (scale_factors_.empty() || level_sigma2_.size() != scale_factors_.size() ||
+      inv_level_sigma2_.size() != scale_factors_.size())
+    throw Error("frame " + std::to_string(id) + ": bad pyramid scales");
+  for (const cv::KeyPoint& kp : keypoints_)
+    if (kp.octave < 0 || static_cast<std::size_t>(kp.octave) >= scale_factors_.size())
+      throw Error("frame " + std::to_string(id) + ": a keypoint's level is outside the pyramid");
+  if (!(bounds_.width > 0.0f && bounds_.height > 0.0f))
+    throw Error("frame " + std::to_string(id) + ": empty image bounds");
+  map_points.assign(n, nullptr);
+  outliers.assign(n, false);
+  cell_w_inv_ = static_cast<float>(kGridCols) / bounds_.width;
+  cell_h_inv_ = static_cast<float>(kGridRows) / bounds_.height;
+  build_grid();
+  T_cw_ = T_cw;  // as saved (already orthonormal): a loaded map saves to the same bytes
+}
+
+Frame::SavedFeatures Frame::saved_features() const {
+  return {keypoints_,    undistorted_,      descriptors_,   depth_, u_right_,
+          level_sigma2_, inv_level_sigma2_, scale_factors_, bounds_};
+}
+
 void Frame::compute_bow(const place::Vocabulary& vocabulary) {
   if (!bow.empty()) return;
   vocabulary.transform(descriptors_, bow, bow_features, kBowLevelsUp);

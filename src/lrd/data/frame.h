@@ -40,6 +40,20 @@ class Frame {
         features::OrbExtractor& extractor, const features::KeypointUndistorter& undistorter,
         const camera::PinholeCamera& camera, Extraction extraction = Extraction::Full);
 
+  // What a map file keeps of a keyframe's features (map/map_file.h): no images, no grid (rebuilt).
+  struct SavedFeatures {
+    std::vector<cv::KeyPoint> keypoints, undistorted;
+    cv::Mat descriptors;  // N x 32 CV_8U
+    std::vector<float> depth, u_right;
+    std::vector<float> level_sigma2, inv_level_sigma2, scale_factors;
+    cv::Rect2f bounds;
+  };
+  // A frame restored from saved features, with its pose. Throws lrd::Error when the arrays'
+  // sizes disagree.
+  Frame(std::uint64_t id, double timestamp, const camera::PinholeCamera& camera, SavedFeatures features,
+        const Eigen::Isometry3d& T_cw);
+  [[nodiscard]] SavedFeatures saved_features() const;
+
   // Removes the keypoints with drop[i] set (dynamic ones found after extraction, paper
   // Algorithm 1), with their descriptors, depths and matches; the grid is rebuilt.
   void remove_keypoints(const std::vector<bool>& drop);

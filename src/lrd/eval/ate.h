@@ -23,6 +23,11 @@ struct AteResult {
 [[nodiscard]] AteResult compute_ate(const io::Trajectory& ground_truth, const io::Trajectory& estimate,
                                     double max_dt = 0.02);
 
+// The same errors under a given alignment instead of the best fit: a later session tracked in a
+// loaded map is judged with the alignment of the session that made the map (map files, issue 20).
+[[nodiscard]] AteResult compute_ate(const io::Trajectory& ground_truth, const io::Trajectory& estimate,
+                                    const Eigen::Isometry3d& alignment, double max_dt = 0.02);
+
 [[nodiscard]] std::vector<double> timestamps(const io::Trajectory& trajectory);
 
 }  // namespace lrd::eval

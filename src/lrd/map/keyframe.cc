@@ -149,6 +149,20 @@ void KeyFrame::update_connections() {
   }
 }
 
+void KeyFrame::restore_graph(SavedGraph graph) {
+  connections_ = std::move(graph.connections);
+  ordered_neighbours_.clear();
+  ordered_weights_.clear();
+  for (const auto& [kf, w] : graph.ordered) {
+    ordered_neighbours_.push_back(kf);
+    ordered_weights_.push_back(w);
+  }
+  loop_edges_ = std::move(graph.loop_edges);
+  not_erase_ = graph.not_erase;
+  first_connection_ = graph.first_connection;
+  change_parent(graph.parent);
+}
+
 void KeyFrame::change_parent(KeyFrame* parent) {
   if (parent_ != nullptr) parent_->children_.erase(this);
   parent_ = parent;

@@ -69,6 +69,9 @@ class KeyFrame {
   [[nodiscard]] std::vector<KeyFrame*> best_covisibles(std::size_t n) const;
   [[nodiscard]] std::vector<KeyFrame*> covisibles_with_weight(int min_weight) const;
   [[nodiscard]] const std::vector<KeyFrame*>& ordered_covisibles() const { return ordered_neighbours_; }
+  [[nodiscard]] const std::vector<int>& ordered_weights() const { return ordered_weights_; }
+  // Every edge with its weight (the ordered list may hold only the strong ones).
+  [[nodiscard]] const std::map<KeyFrame*, int, ById>& connections() const { return connections_; }
   // Every keyframe sharing at least one map point with this one (weak links included), by id.
   [[nodiscard]] std::vector<KeyFrame*> connected_keyframes() const {
     std::vector<KeyFrame*> out;
@@ -102,6 +105,20 @@ class KeyFrame {
   [[nodiscard]] std::size_t memory_bytes() const;
   // Loop closing can protect a keyframe from culling while it works on it.
   void set_not_erase(bool v) { not_erase_ = v; }
+  [[nodiscard]] bool not_erase() const { return not_erase_; }
+  // Still to be attached to the spanning tree at its next connection update.
+  [[nodiscard]] bool first_connection() const { return first_connection_; }
+
+  // The graphs as a map file saved them (map/map_file.h); once, on a keyframe just restored.
+  struct SavedGraph {
+    std::map<KeyFrame*, int, ById> connections;
+    std::vector<std::pair<KeyFrame*, int>> ordered;  // ordered_covisibles() with their weights
+    KeyFrame* parent = nullptr;
+    std::set<KeyFrame*, ById> loop_edges;
+    bool not_erase = false;
+    bool first_connection = false;
+  };
+  void restore_graph(SavedGraph graph);
 
   // Scratch marks (the frame / keyframe id of the last operation that touched it).
   std::uint64_t track_reference_for_frame = UINT64_MAX;

@@ -1,5 +1,10 @@
 #include "lrd/map/map.h"
 
+#include <algorithm>
+#include <string>
+
+#include "lrd/util/error.h"
+
 namespace lrd::map {
 
 KeyFrame* Map::create_keyframe(const data::Frame& frame) {
@@ -16,6 +21,30 @@ MapPoint* Map::create_map_point(const Eigen::Vector3d& position, KeyFrame* refer
   MapPoint* raw = mp.get();
   points_.emplace(raw->id(), std::move(mp));
   return raw;
+}
+
+KeyFrame* Map::restore_keyframe(std::uint64_t id, const data::Frame& frame) {
+  auto kf = std::make_unique<KeyFrame>(id, frame, this);
+  KeyFrame* raw = kf.get();
+  if (!keyframes_.emplace(id, std::move(kf)).second)
+    throw Error("map: keyframe " + std::to_string(id) + " twice");
+  next_keyframe_id_ = std::max(next_keyframe_id_, id + 1);
+  return raw;
+}
+
+MapPoint* Map::restore_map_point(std::uint64_t id, const Eigen::Vector3d& position, KeyFrame* reference,
+                                 std::uint64_t first_frame_id) {
+  auto mp = std::make_unique<MapPoint>(id, position, reference, first_frame_id, this);
+  MapPoint* raw = mp.get();
+  if (!points_.emplace(id, std::move(mp)).second)
+    throw Error("map: map point " + std::to_string(id) + " twice");
+  next_point_id_ = std::max(next_point_id_, id + 1);
+  return raw;
+}
+
+void Map::restore_next_ids(std::uint64_t keyframe_id, std::uint64_t map_point_id) {
+  next_keyframe_id_ = std::max(next_keyframe_id_, keyframe_id);
+  next_point_id_ = std::max(next_point_id_, map_point_id);
 }
 
 void Map::keyframe_mapped(KeyFrame* kf) {

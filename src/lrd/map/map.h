@@ -32,6 +32,14 @@ class Map {
 
   KeyFrame* create_keyframe(const data::Frame& frame);
   MapPoint* create_map_point(const Eigen::Vector3d& position, KeyFrame* reference, std::uint64_t frame_id);
+  // A map file's objects, with the ids they were saved with (map/map_file.h). Restored keyframes
+  // count as taken by local mapping; later objects get ids after the largest restored one.
+  KeyFrame* restore_keyframe(std::uint64_t id, const data::Frame& frame);
+  MapPoint* restore_map_point(std::uint64_t id, const Eigen::Vector3d& position, KeyFrame* reference,
+                              std::uint64_t first_frame_id);
+  [[nodiscard]] std::uint64_t next_keyframe_id() const { return next_keyframe_id_; }
+  [[nodiscard]] std::uint64_t next_map_point_id() const { return next_point_id_; }
+  void restore_next_ids(std::uint64_t keyframe_id, std::uint64_t map_point_id);
   // Called by set_bad() / replace(): drop from the active sets and hand to reclamation. A removed
   // keyframe's pose link (its parent and pose relative to it, or its own pose without a parent)
   // is kept for resolve_pose().

@@ -18,6 +18,16 @@ MapPoint::MapPoint(std::uint64_t id, const Eigen::Vector3d& position, KeyFrame* 
       reference_(reference),
       map_(map) {}
 
+void MapPoint::restore_state(const SavedState& state) {
+  first_keyframe_id_ = state.first_keyframe_id;
+  normal_ = state.normal;
+  descriptor_ = state.descriptor;
+  min_distance_ = state.min_distance;
+  max_distance_ = state.max_distance;
+  visible_ = state.visible;
+  found_ = state.found;
+}
+
 void MapPoint::add_observation(KeyFrame* kf, std::size_t index) {
   if (!observations_.emplace(kf, index).second) return;
   num_obs_ += kf->features().u_right(index) >= 0.0f ? 2 : 1;

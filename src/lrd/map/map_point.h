@@ -59,6 +59,7 @@ class MapPoint {
     return static_cast<float>(found_) / static_cast<float>(visible_);
   }
   [[nodiscard]] int found() const { return found_; }
+  [[nodiscard]] int visible() const { return visible_; }
 
   // The observation descriptor with the least median Hamming distance to the others.
   void compute_distinctive_descriptor();
@@ -67,12 +68,26 @@ class MapPoint {
   // Used after creation from one keyframe, before any other observation exists.
   void set_descriptor(const cv::Mat& d) { descriptor_ = d; }
 
+  // The distances at which the reference keyframe's detection level maps to the finest and the
+  // coarsest level.
+  [[nodiscard]] float min_distance() const { return min_distance_; }
+  [[nodiscard]] float max_distance() const { return max_distance_; }
   [[nodiscard]] float min_distance_invariance() const { return 0.8f * min_distance_; }
   [[nodiscard]] float max_distance_invariance() const { return 1.2f * max_distance_; }
   // Pyramid level at which a point at `distance` is expected to be detected.
   [[nodiscard]] int predict_scale(float distance, float log_scale_factor, int levels) const;
   // Heap and object bytes of this point, for memory figures.
   [[nodiscard]] std::size_t memory_bytes() const;
+
+  // What a map file saved beyond position and observations (map/map_file.h), restored as is.
+  struct SavedState {
+    std::uint64_t first_keyframe_id = 0;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    cv::Mat descriptor;
+    float min_distance = 0, max_distance = 0;
+    int visible = 1, found = 1;
+  };
+  void restore_state(const SavedState& state);
 
   // Scratch state of tracking's local-map search (valid for the frame `last_frame_seen` etc.).
   struct TrackState {

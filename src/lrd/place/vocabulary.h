@@ -54,6 +54,9 @@ class Vocabulary {
   static Vocabulary load(const std::filesystem::path& file);
   // Throws lrd::Error naming the file when it cannot be written, or when the vocabulary is empty.
   void save(const std::filesystem::path& file) const;
+  // The vocabulary's identity: FNV-1a 64 of its .lrdv bytes (0 when empty). Map files record it,
+  // because bag-of-words vectors from another vocabulary mean nothing.
+  [[nodiscard]] std::uint64_t fingerprint() const;
 
   // Rows of `descriptors` (CV_8UC1, N x 32; may be empty) -> `bow`, the L1-normalised tf-idf
   // vector (tf = count / N; words of weight 0 left out), and `fv`, every row grouped under its
@@ -83,6 +86,7 @@ class Vocabulary {
   using Descriptor = std::array<std::uint64_t, 4>;  // 32 bytes as stored, compared by popcount
 
  private:
+  [[nodiscard]] std::string serialize() const;  // the .lrdv bytes
   // The leaf reached from the root by `d`; `fv_node`, when not null, gets the node passed at
   // depth `fv_depth` (or the leaf, if shallower).
   [[nodiscard]] NodeId descend(const Descriptor& d, int fv_depth, NodeId* fv_node) const;

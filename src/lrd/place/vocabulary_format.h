@@ -7,6 +7,7 @@
 #include <string>
 
 #include "lrd/place/vocabulary.h"
+#include "lrd/util/binary_io.h"
 
 namespace lrd::place::vocabulary_format {
 
@@ -32,18 +33,9 @@ inline const std::uint8_t* bytes_of(const Descriptor& d) {
   return reinterpret_cast<const std::uint8_t*>(d.data());
 }
 
-inline void put_u32(std::string& s, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
-}
-inline void put_u64(std::string& s, std::uint64_t v) {
-  for (int i = 0; i < 8; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
-}
-inline std::uint32_t get_u32(const std::uint8_t* p) {
-  return std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 |
-         std::uint32_t{p[3]} << 24;
-}
-inline std::uint64_t get_u64(const std::uint8_t* p) {
-  return std::uint64_t{get_u32(p)} | std::uint64_t{get_u32(p + 4)} << 32;
-}
+using util::get_u32;
+using util::get_u64;
+using util::put_u32;
+using util::put_u64;
 
 }  // namespace lrd::place::vocabulary_format

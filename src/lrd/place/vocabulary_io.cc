@@ -1,6 +1,6 @@
 // Vocabulary::save and Vocabulary::load: the .lrdv file (place/vocabulary_format.h).
 #include <bit>
-#include <fstream>
+#include <span>
 #include <string>
 
 #include "lrd/place/vocabulary.h"
@@ -11,8 +11,7 @@ namespace lrd::place {
 
 using namespace vocabulary_format;
 
-void Vocabulary::save(const std::filesystem::path& file) const {
-  if (empty()) throw file_error(file, "cannot save an empty vocabulary");
+std::string Vocabulary::serialize() const {
   std::string buf;
   buf.reserve(kHeaderBytes + parents_.size() * kNodeBytes);
   buf.append(kMagic, sizeof kMagic);
@@ -27,27 +26,22 @@ void Vocabulary::save(const std::filesystem::path& file) const {
     buf.append(reinterpret_cast<const char*>(bytes_of(descriptors_[n])), 32);
     put_u64(buf, std::bit_cast<std::uint64_t>(node_words_[n] == kNone ? 0.0 : word_weights_[node_words_[n]]));
   }
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) throw file_error(file, "cannot open for writing");
-  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
-  out.close();
-  if (out.fail()) throw file_error(file, "cannot write the vocabulary");
+  return buf;
+}
+
+void Vocabulary::save(const std::filesystem::path& file) const {
+  if (empty()) throw file_error(file, "cannot save an empty vocabulary");
+  util::write_file_bytes(file, serialize());
+}
+
+std::uint64_t Vocabulary::fingerprint() const {
+  return empty() ? 0 : util::fnv1a64(serialize());
 }
 
 Vocabulary Vocabulary::load(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) throw file_error(file, "no such vocabulary file");
-  if (!std::filesystem::is_regular_file(file, ec)) throw file_error(file, "not a regular file");
   // One read of the whole file, then parsing from memory.
-  std::ifstream in(file, std::ios::binary | std::ios::ate);
-  if (!in) throw file_error(file, "cannot open the vocabulary file");
-  const std::streamoff size = in.tellg();
-  if (size < 0) throw file_error(file, "cannot read the vocabulary file");
-  std::vector<std::uint8_t> buf(static_cast<std::size_t>(size));
-  in.seekg(0);
-  if (size > 0) in.read(reinterpret_cast<char*>(buf.data()), size);
-  if (size > 0 && in.gcount() != size) throw file_error(file, "cannot read the vocabulary file");
-
+  const std::string bytes = util::read_file_bytes(file, "vocabulary");
+  const std::span<const std::uint8_t> buf(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
   const std::size_t magic_bytes = std::min(buf.size(), sizeof kMagic);
   if (magic_bytes > 0 && std::memcmp(buf.data(), kMagic, magic_bytes) != 0)  // no data() when empty
     throw file_error(file, "not an lrd-slam vocabulary (bad magic, expected \"LRDVOC01\")");

@@ -63,7 +63,7 @@ void write_track_times(const fs::path& file, const std::vector<FrameLog>& log) {
 
 void summarize_log(RunReport& report) {
   report.frames = report.log.size();
-  std::vector<double> ext, seg, mwait, geo, trk, wai, map, tot;
+  std::vector<double> ext, seg, mwait, geo, trk, wai, map, tot, relocalizing;
   double age_sum = 0.0;
   for (const FrameLog& f : report.log) {
     seg.push_back(1e3 * f.timing.segmentation);
@@ -76,6 +76,8 @@ void summarize_log(RunReport& report) {
     report.tracked += f.state == TrackingState::Ok;
     report.lost += f.state == TrackingState::Lost;
     report.not_initialized += f.state == TrackingState::NotInitialized;
+    report.not_localized += f.state == TrackingState::NotLocalized;
+    if (f.state == TrackingState::NotLocalized) relocalizing.push_back(1e3 * f.timing.total());
     ext.push_back(1e3 * f.timing.extraction);
     trk.push_back(1e3 * f.timing.tracking);
     wai.push_back(1e3 * f.timing.waiting);
@@ -92,6 +94,7 @@ void summarize_log(RunReport& report) {
   report.waiting = summarize(wai);
   report.mapping = summarize(map);
   report.total = summarize(tot);
+  report.not_localized_median_ms = summarize(relocalizing).median_ms;
 }
 
 namespace {
@@ -108,6 +111,7 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       {"tracked", r.tracked},
       {"lost", r.lost},
       {"not_initialized", r.not_initialized},
+      {"not_localized", r.not_localized},
       {"keyframes", r.map.keyframes},
       {"map_points", r.map.map_points},
       {"culled_keyframes", r.map.culled_keyframes},
@@ -136,6 +140,21 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       {"io_wait_seconds", r.io_wait_seconds},
       {"interrupted", r.interrupted},
   };
+  if (r.loaded_map || r.saved_map)
+    j["map_file"] = {{"loaded", r.loaded_map ? r.loaded_map->string() : ""},
+                     {"loaded_keyframes", r.map.loaded_keyframes},
+                     {"loaded_map_points", r.map.loaded_map_points},
+                     {"localization_only", r.localization_only},
+                     {"saved", r.saved_map ? r.saved_map->string() : ""},
+                     {"not_localized_median_ms", r.not_localized_median_ms}};
+  if (r.loaded_map) {
+    const auto optional_index = [](const std::optional<std::size_t>& v) {
+      return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+    };
+    j["map_file"]["first_localized_frame"] = optional_index(r.localization.first_localized_frame);
+    j["map_file"]["first_view_frame"] = optional_index(r.localization.first_view_frame);
+    j["map_file"]["relocalization_frames"] = optional_index(r.localization.frames());
+  }
   j["loops"] = nlohmann::json::array();
   for (const loop::LoopEvent& e : r.loops)
     j["loops"].push_back({{"frame", e.frame_id},

@@ -68,7 +68,8 @@ bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o
 // Trajectories, ATE/RPE against the sequence's ground truth, the dense map, summary.json.
 void evaluate(RunReport& report, const System& slam, const RunOptions& o, const io::FrameSource& seq,
               const config::Config& cfg, const SystemParams& params,
-              const std::shared_ptr<RepairRecorder>& repairs) {
+              const std::shared_ptr<RepairRecorder>& repairs,
+              const std::vector<Eigen::Vector3d>& loaded_points) {
   summarize_log(report);
   report.map = slam.map_stats();
   report.loops = slam.loops();
@@ -94,6 +95,11 @@ void evaluate(RunReport& report, const System& slam, const RunOptions& o, const 
       report.ate = ate.stats;
       report.rpe_trans = rpe.trans;
       report.rpe_rot = rpe.rot;
+      if (report.loaded_map) {
+        std::vector<TrackingState> states;
+        for (const FrameLog& f : report.log) states.push_back(f.state);
+        report.localization = localization_latency(loaded_points, states, seq, gt, ate.alignment, cfg.camera);
+      }
     } catch (const Error& e) {
       spdlog::warn("no ATE/RPE: {} vs {}: {}", (o.out / "CameraTrajectory.txt").string(),
                    seq.ground_truth_origin(), e.what());
@@ -113,6 +119,10 @@ RunReport run_sequence(const RunOptions& options) {
   if (o.out.empty()) o.out = cfg.output.dir;
   report.out = o.out;
   const SystemParams params = configure_system(o, cfg);
+  if (o.localization_only && !o.load_map)
+    throw Error("run: --localization-only needs a map to localize in (--load-map)");
+  if (o.localization_only && o.save_map)
+    throw Error("run: --localization-only leaves the map as loaded: there is nothing new for --save-map");
   const std::shared_ptr<const io::FrameSource> source =
       o.source ? o.source : std::make_shared<const io::TumSequence>(io::TumSequence::open(o.sequence));
   const io::FrameSource& seq = *source;
@@ -133,11 +143,20 @@ RunReport run_sequence(const RunOptions& options) {
   if (o.preload) frames.wait_until_decoded();
   SystemOptions sopts;
   sopts.deterministic = o.deterministic;
+  sopts.localization_only = o.localization_only;
   // Declared before the system, so they outlive its threads (also on errors).
   std::shared_ptr<RepairRecorder> repairs;
   auto recorder = std::make_shared<RunRecorder>(seq, frames.size(), o.progress, o.save_masks);
   std::shared_ptr<FlagScorer> scorer;
   System slam(cfg, params, sopts);
+  // A bad map file stops the run here, before any frame is tracked.
+  std::vector<Eigen::Vector3d> loaded_points;  // for the relocalization latency
+  if (o.load_map) {
+    slam.load_map(*o.load_map);
+    for (const events::MapPointSnapshot& p : slam.map_snapshot().points) loaded_points.push_back(p.position);
+  }
+  report.loaded_map = o.load_map;
+  report.localization_only = o.localization_only;
   if (slam.dense_enabled()) {
     repairs = std::make_shared<RepairRecorder>(seq, cfg.camera.depth_map_factor, o.save_repaired);
     slam.subscribe(repairs);
@@ -165,10 +184,14 @@ RunReport run_sequence(const RunOptions& options) {
   report.decode_seconds = ds.decode_seconds;
   report.io_wait_seconds = ds.wait_seconds;
   report.log = recorder->take_log();
+  if (o.save_map) {
+    slam.save_map(*o.save_map);
+    report.saved_map = o.save_map;
+  }
   if (scorer) report.flags = scorer->score();
 
   // Evaluate.
-  evaluate(report, slam, o, seq, cfg, params, repairs);
+  evaluate(report, slam, o, seq, cfg, params, repairs, loaded_points);
   return report;
 }
 

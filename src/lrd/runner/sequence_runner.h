@@ -17,6 +17,7 @@
 #include "lrd/eval/occupancy_accuracy.h"
 #include "lrd/eval/statistics.h"
 #include "lrd/io/frame_source.h"
+#include "lrd/runner/localization_latency.h"
 #include "lrd/system.h"
 
 namespace lrd::runner {
@@ -57,6 +58,11 @@ struct RunOptions {
   // --no-loop-closing (ablations; relocalization stays), --vocabulary FILE.
   bool no_loop_closing = false;
   std::optional<std::filesystem::path> vocabulary;
+  // Map files (issue 20): start from a saved map (frames relocalize against it first), track it
+  // without adding to it, write the final map.
+  std::optional<std::filesystem::path> load_map;
+  bool localization_only = false;  // needs load_map
+  std::optional<std::filesystem::path> save_map;
   int flag_eval_stride = 5;  // with ground-truth masks: judge the dynamic flags on every n-th frame
   bool progress = true;      // progress bar on stderr
   // Set (e.g. by a SIGINT handler) to stop reading frames: the run finishes the queued work and
@@ -153,7 +159,12 @@ struct RunReport {
   std::size_t tracked = 0;
   std::size_t lost = 0;
   std::size_t not_initialized = 0;
+  std::size_t not_localized = 0;  // frames before the first placed in a loaded map
   MapStats map;
+  std::optional<std::filesystem::path> loaded_map, saved_map;  // RunOptions::load_map / save_map
+  bool localization_only = false;
+  LocalizationLatency localization;      // with a loaded map (first view: with ground truth)
+  double not_localized_median_ms = 0.0;  // per frame, while relocalizing in the loaded map
   std::vector<loop::LoopEvent> loops;
   bool loop_closing = false;
   std::string vocabulary;    // file in use ("" : none)

@@ -1,8 +1,11 @@
 #include "lrd/synth/camera_motion.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "lrd/synth/portable_random.h"
+#include "lrd/util/error.h"
 
 namespace lrd::synth {
 namespace {
@@ -11,8 +14,11 @@ const Eigen::Vector3d kBase(2.2, 2.5, 1.35);    // where the walking/sitting pre
 const Eigen::Vector3d kTarget(5.2, 2.5, 0.85);  // the desk
 }  // namespace
 
-CameraMotion::CameraMotion(MotionKind kind, double duration, std::uint64_t seed)
-    : kind_(kind), duration_(duration) {
+CameraMotion::CameraMotion(MotionKind kind, double duration, std::uint64_t seed, int session)
+    : kind_(kind), session_(session), duration_(duration) {
+  if (session < 1 || session > kMaxSession)
+    throw Error("synth: session " + std::to_string(session) + " (sessions are 1 .. " +
+                std::to_string(kMaxSession) + ")");
   PortableRandom rng(seed * 0x2545F4914F6CDD1Dull + 17);
   for (double& p : phase_) p = rng.uniform(0.0, kTwoPi);
 }
@@ -52,7 +58,27 @@ Eigen::Vector3d CameraMotion::tremor_angles(double t) const {
                  std::sin(kTwoPi * 0.6 * t + phase_[10]) + 0.5 * std::sin(kTwoPi * 1.9 * t + phase_[11]));
 }
 
+Eigen::Isometry3d CameraMotion::session_offset(double t) const {
+  // A yaw about the vertical through the standpoint, easing from 80 deg to 12 deg over the
+  // first 4 s (smoothstep), then a step aside; mirrored for session 3.
+  constexpr double kStartYaw = 80.0 * M_PI / 180.0, kEndYaw = 12.0 * M_PI / 180.0, kTurnSeconds = 4.0;
+  const double sign = session_ == 2 ? 1.0 : -1.0;
+  const double s = std::clamp(t / kTurnSeconds, 0.0, 1.0);
+  const double yaw = sign * (kEndYaw + (kStartYaw - kEndYaw) * (1.0 - s * s * (3.0 - 2.0 * s)));
+  const Eigen::Vector3d aside(-0.3, -sign * 0.5, sign * 0.05);
+  Eigen::Isometry3d A = Eigen::Isometry3d::Identity();
+  A.translate(kBase + aside);
+  A.rotate(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+  A.translate(-kBase);
+  return A;
+}
+
 Eigen::Isometry3d CameraMotion::pose_at(double t) const {
+  if (session_ != 1) {
+    CameraMotion first = *this;
+    first.session_ = 1;
+    return session_offset(t) * first.pose_at(t);
+  }
   const Eigen::Vector3d tp = tremor_position(t);
   const Eigen::Vector3d ta = tremor_angles(t);
   const Eigen::Vector3d forward = (kTarget - kBase).normalized();

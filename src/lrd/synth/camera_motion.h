@@ -12,8 +12,13 @@ enum class MotionKind { kStill, kXyz, kRpy, kHalfsphere, kLoop };
 
 class CameraMotion {
  public:
-  // `duration`: the preset's full length in seconds (the loop's two laps span it).
-  CameraMotion(MotionKind kind, double duration, std::uint64_t seed);
+  // `duration`: the preset's full length in seconds (the loop's two laps span it). `session` 1 is
+  // the preset's path; 2 and 3 are the same motion from another standpoint (map-file sessions,
+  // issue 20): the camera stands 0.6 m aside and starts turned 80 deg away from session 1's view
+  // (2: to the left, 3: to the right), then over its first 4 s turns to within 12 deg of it, so
+  // it first sees what session 1 did not and then overlaps session 1's view in part.
+  CameraMotion(MotionKind kind, double duration, std::uint64_t seed, int session = 1);
+  static constexpr int kMaxSession = 3;
   // Camera-to-world pose (camera: x right, y down, z forward; world: z up).
   [[nodiscard]] Eigen::Isometry3d pose_at(double t) const;
   [[nodiscard]] MotionKind kind() const { return kind_; }
@@ -26,7 +31,10 @@ class CameraMotion {
  private:
   [[nodiscard]] Eigen::Vector3d tremor_position(double t) const;
   [[nodiscard]] Eigen::Vector3d tremor_angles(double t) const;
+  // World-frame motion from session 1's standpoint to this session's at time t.
+  [[nodiscard]] Eigen::Isometry3d session_offset(double t) const;
   MotionKind kind_;
+  int session_;
   double duration_;
   std::array<double, 12> phase_{};
 };

@@ -77,10 +77,10 @@ const PresetSpec& find_preset(const std::string& name) {
 }
 
 SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex, std::uint64_t seed,
-                               double fps) {
+                               double fps, int session) {
   SceneScript script;
   const double duration = spec.default_frames / fps;
-  script.camera = std::make_unique<CameraMotion>(spec.motion, duration, seed);
+  script.camera = std::make_unique<CameraMotion>(spec.motion, duration, seed, session);
   Draw d(seed);
   // Paths in front of the camera (which stands near x = 2.2 looking at the desk at x = 4.2..5.0,
   // y = 1.5..3.5). As in TUM's walking sequences, people pass within 1-2 m of the camera and

@@ -31,7 +31,8 @@ struct SceneScript {
   std::vector<std::unique_ptr<Actor>> actors;
 };
 
+// `session`: the camera's standpoint (CameraMotion); the people are the same in every session.
 [[nodiscard]] SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex,
-                                             std::uint64_t seed, double fps);
+                                             std::uint64_t seed, double fps, int session = 1);
 
 }  // namespace lrd::synth

@@ -132,6 +132,7 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
   meta["fps"] = seq.camera().fps;
   meta["motion_blur"] = seq.options().motion_blur;
   if (seq.options().camera_speed != 1.0) meta["camera_speed"] = seq.options().camera_speed;
+  meta["session"] = seq.options().session;
   if (seq.options().blank_from >= 0)
     meta["blank"] = {{"from", seq.options().blank_from}, {"count", seq.options().blank_count}};
   meta["camera"] = {{"fx", seq.camera().fx},

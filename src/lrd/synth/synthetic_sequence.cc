@@ -39,7 +39,7 @@ SyntheticSequence::SyntheticSequence(const SynthOptions& options,
   frames_ = options.frames < 0 ? spec_.default_frames : options.frames;
   if (frames_ == 0) throw Error("synth: --frames must be at least 1");
   room_ = build_room(*textures_);
-  script_ = build_scene_script(spec_, *textures_, options.seed, camera_.fps);
+  script_ = build_scene_script(spec_, *textures_, options.seed, camera_.fps, options.session);
   rasterizer_ = std::make_unique<Rasterizer>(camera_, *textures_);
   sensor_ = std::make_unique<SensorModel>(camera_, SensorParams{}, options.seed);
 }

@@ -30,6 +30,9 @@ struct SynthOptions {
   // The camera runs the preset's path this many times faster (e.g. static_loop's two laps in
   // 400 frames at 2.5: a loop closes within a short test); 1 is the benchmark.
   double camera_speed = 1.0;
+  // Map-file sessions (issue 20): 1 is the preset's camera path; 2 and 3 see the same room and
+  // people, with the same seed, from another standpoint (CameraMotion), in the same world frame.
+  int session = 1;
   [[nodiscard]] bool blanked(int i) const {
     return blank_from >= 0 && i >= blank_from && i < blank_from + blank_count;
   }

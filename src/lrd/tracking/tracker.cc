@@ -96,10 +96,14 @@ TrackOutcome Tracker::track(data::Frame& frame) {
     const bool ok = track_frame(frame, outcome);
     state_ = ok ? TrackingState::Ok : TrackingState::Lost;
     if (ok) {
-      update_velocity(frame);
+      // The first frame placed in a loaded map has no last frame to measure a velocity from.
+      if (last_frame_)
+        update_velocity(frame);
+      else
+        velocity_.reset();
       const KeyFrameContext context{reference_kf_, inliers_,
                                     recovered_ ? std::optional(recovered_frame_id_) : std::nullopt};
-      if (keyframes_.needed(frame, context)) {
+      if (!localization_only_ && keyframes_.needed(frame, context)) {
         outcome.new_keyframe = keyframes_.insert(frame);
         reference_kf_ = outcome.new_keyframe;
       }
@@ -108,6 +112,8 @@ TrackOutcome Tracker::track(data::Frame& frame) {
         if (frame.outliers[i]) frame.map_points[i] = nullptr;
     } else {
       velocity_.reset();
+      // Until a frame is placed in a loaded map, the state says so (it is not a loss of track).
+      if (!last_frame_) state_ = TrackingState::NotLocalized;
     }
   }
   record(frame);
@@ -125,11 +131,20 @@ TrackOutcome Tracker::track(data::Frame& frame) {
 
 bool Tracker::track_frame(data::Frame& frame, TrackOutcome& outcome) {
   // Points replaced by fusion since the last frame.
-  for (auto& mp : last_frame_->map_points)
-    while (mp != nullptr && mp->replaced_by() != nullptr) mp = mp->replaced_by();
+  if (last_frame_)
+    for (auto& mp : last_frame_->map_points)
+      while (mp != nullptr && mp->replaced_by() != nullptr) mp = mp->replaced_by();
   update_last_frame();
   bool ok = false;
-  if (state_ == TrackingState::Ok) {
+  if (state_ == TrackingState::NotLocalized) {
+    // A loaded map and no frame placed in it yet: no last pose to fall back on, only place
+    // recognition can place the frame (issue 20).
+    ok = outcome.relocalized = relocalize(frame);
+    if (ok) {
+      recovered_ = true;
+      recovered_frame_id_ = frame.id();
+    }
+  } else if (state_ == TrackingState::Ok) {
     if (velocity_ && !recently_recovered(frame)) ok = track_with_motion_model(frame);
     if (!ok) ok = track_reference_keyframe(frame);
   } else {

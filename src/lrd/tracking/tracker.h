@@ -77,6 +77,12 @@ class Tracker {
     vocabulary_ = vocabulary;
     database_ = database;
   }
+  // A map was loaded (map/map_file.h): frames relocalize against it until one is placed, instead
+  // of starting a new map. Call before the first frame.
+  void start_in_loaded_map() { state_ = TrackingState::NotLocalized; }
+  // Localization only (issue 20): track against the map without adding keyframes (so no map
+  // points either; local mapping and loop closing stay idle).
+  void set_localization_only(bool on) { localization_only_ = on; }
   // Frames relocalized so far.
   [[nodiscard]] int relocalizations() const { return relocalizations_; }
 
@@ -93,6 +99,7 @@ class Tracker {
   // Each step returns whether the frame is still tracked.
   map::KeyFrame* initialize(data::Frame& frame);
   bool track_frame(data::Frame& frame, TrackOutcome& outcome);
+  bool localize_in_loaded_map(data::Frame& frame, TrackOutcome& outcome);
   bool track_reference_keyframe(data::Frame& frame);
   bool relocalize(data::Frame& frame);  // relocalization.cc
   bool track_with_motion_model(data::Frame& frame);
@@ -139,6 +146,7 @@ class Tracker {
   const place::Vocabulary* vocabulary_ = nullptr;
   map::KeyFrameDatabase* database_ = nullptr;
   int relocalizations_ = 0;
+  bool localization_only_ = false;
 };
 
 }  // namespace lrd::tracking

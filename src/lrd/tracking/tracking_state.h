@@ -3,8 +3,9 @@
 
 namespace lrd::tracking {
 
-// Tracking is a state machine; losing track is a state, never an error.
-enum class TrackingState { NotInitialized, Ok, Lost };
+// Tracking is a state machine; losing track is a state, never an error. NotLocalized: a map was
+// loaded and no frame has been placed in it yet (relocalization runs on every frame until one is).
+enum class TrackingState { NotInitialized, Ok, Lost, NotLocalized };
 
 constexpr std::string_view to_string(TrackingState s) {
   switch (s) {
@@ -14,6 +15,8 @@ constexpr std::string_view to_string(TrackingState s) {
       return "ok";
     case TrackingState::Lost:
       return "lost";
+    case TrackingState::NotLocalized:
+      return "not-localized";
   }
   return "?";
 }
