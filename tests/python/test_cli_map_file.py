@@ -61,6 +61,22 @@ def test_session_two_localizes_in_session_ones_map(sessions, tmp_path):
     assert digest(d / "s1.lrdmap") == before
 
 
+def test_walking_session_two_localizes_within_two_centimetres_in_full_mode(tmp_path):
+    # People walk through the part session 1 mapped; both sessions run `full` (FNet + geometry).
+    d = tmp_path
+    for n in (1, 2):
+        lrdslam("synth", "--preset", "walking_xyz", "--session", n, "--frames", 160, "--out", d / f"s{n}")
+    lrdslam("run", "--sequence", d / "s1", "--mode", "full", "--deterministic", "--quiet", "--out", d / "run1",
+            "--save-map", d / "s1.lrdmap")
+    out = d / "loc"
+    lrdslam("run", "--sequence", d / "s2", "--mode", "full", "--deterministic", "--quiet", "--out", out,
+            "--load-map", d / "s1.lrdmap", "--localization-only")
+    s = summary(out)
+    assert s["map_file"]["relocalization_frames"] <= 30 and s["tracked"] >= 60, s
+    ate = ate_in_session_one_frame(d, out)
+    assert ate["rmse"] < 0.02 and ate["pairs"] == s["tracked"], ate
+
+
 def test_session_two_extends_the_map(sessions, tmp_path):
     d = sessions
     out = tmp_path / "ext"

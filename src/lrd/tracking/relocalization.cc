@@ -5,11 +5,13 @@
 #include <spdlog/spdlog.h>
 
 #include <opencv2/calib3d.hpp>
+#include <unordered_set>
 
 #include "lrd/map/keyframe.h"
 #include "lrd/map/keyframe_database.h"
 #include "lrd/map/map_point.h"
 #include "lrd/match/bow_matcher.h"
+#include "lrd/match/frustum.h"
 #include "lrd/tracking/tracker.h"
 
 namespace lrd::tracking {
@@ -18,6 +20,31 @@ namespace {
 constexpr int kMinBowMatches = 15;  // ORB-SLAM2: candidates with fewer matches are discarded
 constexpr int kMinPnpInliers = 12;
 constexpr std::size_t kMaxCandidates = 10;
+constexpr int kMinGuidedStart = 10;  // ORB-SLAM2: fewer BA inliers than this, the candidate is dropped
+constexpr int kGuidedTarget = 50;    // ... fewer than this, it looks for more matches by projection
+
+// ORB-SLAM2's guided search after a weak PnP pose: the candidate keyframe's map points not yet
+// matched, projected into the frame at that pose and matched within th * scale pixels. A view
+// that overlaps the map only in part (a loaded map seen from its edge) gains the matches that
+// bag-of-words matching, restricted to the same vocabulary nodes, missed. Returns the matches
+// added.
+int guided_matches(data::Frame& frame, const map::KeyFrame& kf, const match::OrbMatcher& matcher, float th) {
+  std::unordered_set<const map::MapPoint*> matched(frame.map_points.begin(), frame.map_points.end());
+  std::vector<map::MapPoint*> points;
+  for (map::MapPoint* mp : kf.map_points()) {
+    if (mp == nullptr || mp->is_bad() || matched.count(mp) != 0) continue;
+    const auto seen = match::project_in_frustum(frame, frame.T_cw(), *mp, 0.5f);
+    mp->track.in_view = seen.has_value();
+    if (!seen) continue;
+    mp->track.proj_x = static_cast<float>(seen->pixel.x());
+    mp->track.proj_y = static_cast<float>(seen->pixel.y());
+    mp->track.proj_xr = static_cast<float>(seen->pixel.x() - frame.camera().bf / seen->point_camera.z());
+    mp->track.scale_level = seen->level;
+    mp->track.view_cos = seen->view_cos;
+    points.push_back(mp);
+  }
+  return matcher.search_by_projection(frame, points, th);
+}
 }  // namespace
 
 bool Tracker::relocalize(data::Frame& frame) {
@@ -61,9 +88,17 @@ bool Tracker::relocalize(data::Frame& frame) {
     for (const int k : inliers)
       frame.map_points[index[static_cast<std::size_t>(k)]] = matches[index[static_cast<std::size_t>(k)]];
     frame.set_pose(T_cw);
-    const int good = optimize_pose(frame);
+    int good = optimize_pose(frame);
     spdlog::debug("frame {}: relocalization against keyframe {}: {} BoW matches, {} PnP inliers, {} after BA",
                   frame.id(), kf->id(), index.size(), inliers.size(), good);
+    if (good >= kMinGuidedStart && good < kGuidedTarget) {
+      for (std::size_t i = 0; i < frame.size(); ++i)
+        if (frame.outliers[i]) frame.map_points[i] = nullptr;
+      if (good + guided_matches(frame, *kf, local_matcher_, 10.0f) >= kGuidedTarget) {
+        good = optimize_pose(frame);
+        spdlog::debug("frame {}: {} inliers after the guided search", frame.id(), good);
+      }
+    }
     if (good < params_.min_relocalization_inliers) continue;
     for (std::size_t i = 0; i < frame.size(); ++i)
       if (frame.outliers[i]) frame.map_points[i] = nullptr;
