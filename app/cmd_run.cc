@@ -14,6 +14,8 @@
 
 #include "app/bag_input.h"
 #include "app/commands.h"
+#include "lrd/report/html_page.h"
+#include "lrd/report/run_data.h"
 #include "lrd/runner/sequence_runner.h"
 #include "lrd/util/error.h"
 
@@ -55,6 +57,7 @@ struct RunCli {
   bool preload = false;
   bool deterministic = false;
   bool quiet = false;
+  bool report = false;
   std::size_t max_frames = 0;
   std::string load_map, save_map;
   bool localization_only = false;
@@ -150,6 +153,13 @@ void print_report(const runner::RunReport& r) {
   if (r.saved_map) std::printf("wrote map %s\n", r.saved_map->string().c_str());
 }
 
+void write_report(const std::filesystem::path& out, const std::string& sequence) {
+  report::RunSources sources{out, std::nullopt};
+  if (!sequence.empty()) sources.sequence = sequence;
+  report::write_html_report(out / "report.html", report::collect_run_data(sources));
+  std::printf("wrote %s\n", (out / "report.html").string().c_str());
+}
+
 }  // namespace
 
 void register_run_command(CLI::App& app) {
@@ -220,6 +230,8 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--save-map", cli->save_map,
                   "Write the final sparse map (keyframes, map points, graphs) to this .lrdmap file");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
+  cmd->add_flag("--report", cli->report,
+                "Write OUT/report.html at the end: one self-contained page (as `lrdslam report OUT`)");
   cmd->callback([cli] {
     if (cli->sequence.empty() == cli->bag.bag.empty())
       throw Error("run: give the frames as --sequence FOLDER or --bag FILE.bag");
@@ -251,6 +263,7 @@ void register_run_command(CLI::App& app) {
     handle_interrupts();
     const runner::RunReport r = runner::run_sequence(o);
     print_report(r);
+    if (cli->report) write_report(r.out, cli->sequence);
     if (r.interrupted) {
       std::fprintf(stderr, "interrupted after %zu frames\n", r.frames);
       std::fflush(stdout);

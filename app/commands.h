@@ -11,5 +11,6 @@ void register_run_command(CLI::App& app);
 void register_segment_command(CLI::App& app);
 void register_eval_map_command(CLI::App& app);
 void register_vocab_command(CLI::App& app);
+void register_report_command(CLI::App& app);
 
 }  // namespace lrd::app

@@ -25,6 +25,8 @@ PACKAGES=(
   librcpputils-dev librcutils-dev python3-rosbag
   python3-rospy python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-std-srvs python3-std-msgs
   python3-visualization-msgs python3-tf2-msgs  # the node tests publish, subscribe and call services
+  # The HTML report (issue 24): its test opens a report in headless Chromium
+  chromium fonts-dejavu-core
   # Real photographs used as textures by the synthetic benchmark (lrdslam synth)
   opencv-doc gnome-backgrounds mate-backgrounds
 )

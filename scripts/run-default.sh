@@ -12,6 +12,8 @@ bash scripts/install-deps.sh
 # The MediaPipe person models for real data (npm package, converted by tools/tflite2onnx into
 # data/models/). Without the npm registry their tests skip and their presets say how to get them.
 bash scripts/fetch-models.sh || echo "warning: scripts/fetch-models.sh failed; the selfie presets are unavailable" >&2
+# The charting library the HTML report inlines (npm package uplot into data/web/).
+bash scripts/fetch-web-assets.sh || echo "warning: scripts/fetch-web-assets.sh failed; no HTML report" >&2
 cmake --preset release
 cmake --build --preset release -j "$(nproc)"
 BIN=build/release/bin/lrdslam
@@ -21,6 +23,7 @@ if [ ! -f "$SEQ/sequence.json" ]; then
 fi
 if [ -f models/fnet-lite.onnx ]; then MODE=(--mode full --segmenter fnet); else MODE=(--mode geometric); fi
 MODE+=(--dense)  # background repair and the dense map (dense_map.ply/.png), the occupancy map (occupancy.bt, occupancy_2d.*)
+if [ -f data/web/uPlot.iife.min.js ]; then MODE+=(--report); fi  # OUT/run/report.html
 "$BIN" run --sequence "$SEQ" --out "$OUT/run" "${MODE[@]}"
 "$BIN" eval "$SEQ/groundtruth.txt" "$OUT/run/CameraTrajectory.txt" --json "$OUT/eval.json" --plot "$OUT/plots"
-echo "Sequence: $SEQ   trajectory: $OUT/run/CameraTrajectory.txt   dense map: $OUT/run/dense_map.ply   occupancy grid: $OUT/run/occupancy_2d.png   evaluation: $OUT/eval.json   plots: $OUT/plots"
+echo "Sequence: $SEQ   trajectory: $OUT/run/CameraTrajectory.txt   dense map: $OUT/run/dense_map.ply   occupancy grid: $OUT/run/occupancy_2d.png   evaluation: $OUT/eval.json   plots: $OUT/plots   report: $OUT/run/report.html"

@@ -11,6 +11,8 @@ bash scripts/install-deps.sh
 # The MediaPipe person models for real data (npm package, converted by tools/tflite2onnx into
 # data/models/). Without the npm registry their tests skip and their presets say how to get them.
 bash scripts/fetch-models.sh || echo "warning: scripts/fetch-models.sh failed; the selfie presets are unavailable" >&2
+# The charting library the HTML report inlines (npm package uplot into data/web/); its tests need it.
+bash scripts/fetch-web-assets.sh
 cmake --preset asan
 cmake --build --preset asan -j "$(nproc)"
 cmake --preset release

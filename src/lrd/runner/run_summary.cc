@@ -106,6 +106,7 @@ nlohmann::json stage_json(const StageSummary& s) {
 
 void write_summary_json(const fs::path& file, const RunReport& r) {
   nlohmann::json j = {
+      {"sequence", r.source.string()},
       {"camera", r.camera_source},
       {"frames", r.frames},
       {"tracked", r.tracked},

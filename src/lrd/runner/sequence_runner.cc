@@ -127,6 +127,7 @@ RunReport run_sequence(const RunOptions& options) {
       o.source ? o.source : std::make_shared<const io::TumSequence>(io::TumSequence::open(o.sequence));
   const io::FrameSource& seq = *source;
   if (seq.size() == 0) throw file_error(seq.path(), "the sequence has no frames");
+  report.source = fs::absolute(seq.path()).lexically_normal();
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (ec) throw file_error(o.out.string(), "cannot create the output folder: " + ec.message());

@@ -155,6 +155,7 @@ struct RunReport {
   std::filesystem::path out;  // the output folder written
   bool interrupted = false;   // stopped early by RunOptions::interrupt
   std::string camera_source;
+  std::filesystem::path source;  // the sequence folder or bag read
   std::size_t frames = 0;
   std::size_t tracked = 0;
   std::size_t lost = 0;

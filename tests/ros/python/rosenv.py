@@ -104,7 +104,13 @@ class Node:
             return f.read()
 
 
-def play(master, bag, rate, delay=1.0):
-    """rosbag play of the whole bag (blocks until it is played)."""
-    subprocess.run(["rosbag", "play", "-q", "-d", str(delay), "-r", str(rate), str(bag)], env=master.env,
-                   check=True, stdout=subprocess.DEVNULL)
+# What the node subscribes to by default (TUM's topics); the bag's /tf has no subscriber.
+NODE_TOPICS = ("/camera/rgb/image_color", "/camera/depth/image", "/camera/rgb/camera_info")
+
+
+def play(master, bag, rate, delay=1.0, topics=NODE_TOPICS):
+    """rosbag play of these topics of the bag (blocks until it is played). It starts once each topic
+    has a connected subscriber: a fixed delay alone lost the first seconds of the bag when a loaded
+    machine was slow to connect the node."""
+    subprocess.run(["rosbag", "play", "-q", "-d", str(delay), "-r", str(rate), "--wait-for-subscribers", str(bag),
+                    "--topics", *topics], env=master.env, check=True, stdout=subprocess.DEVNULL, timeout=900)

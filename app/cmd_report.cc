@@ -1,0 +1,40 @@
+// `lrdslam report RUN_DIR [--sequence SEQ] [--out FILE.html]`: one self-contained HTML page about a
+// run (issue 24); `run --report` writes the same page into its output folder.
+#include <cstdio>
+#include <memory>
+
+#include "app/commands.h"
+#include "lrd/report/html_page.h"
+#include "lrd/report/run_data.h"
+#include "lrd/util/error.h"
+
+namespace lrd::app {
+namespace {
+
+struct ReportCli {
+  std::string run_dir, sequence, out;
+};
+
+}  // namespace
+
+void register_report_command(CLI::App& app) {
+  auto cli = std::make_shared<ReportCli>();
+  CLI::App* cmd = app.add_subcommand(
+      "report",
+      "Write one self-contained HTML page about a run: summary, trajectory against ground truth, "
+      "error and tracking over time, time per stage, the maps");
+  cmd->add_option("run_dir", cli->run_dir, "A folder `lrdslam run --out` wrote")->required();
+  cmd->add_option("--sequence", cli->sequence,
+                  "The sequence folder run (for its groundtruth.txt); default: the one summary.json names");
+  cmd->add_option("--out", cli->out, "The page to write (default: RUN_DIR/report.html)");
+  cmd->callback([cli] {
+    report::RunSources sources{cli->run_dir, std::nullopt};
+    if (!cli->sequence.empty()) sources.sequence = cli->sequence;
+    const std::filesystem::path out = cli->out.empty() ? std::filesystem::path(cli->run_dir) / "report.html"
+                                                       : std::filesystem::path(cli->out);
+    report::write_html_report(out, report::collect_run_data(sources));
+    std::printf("wrote %s\n", out.string().c_str());
+  });
+}
+
+}  // namespace lrd::app

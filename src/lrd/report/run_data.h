@@ -1,0 +1,20 @@
+#pragma once
+// What an HTML report shows about one run (issue 24), gathered from the run's output folder:
+// summary.json, track_times.txt, CameraTrajectory.txt and the images the run wrote, with the
+// sequence's ground truth when there is one. The page (web/report.js) draws it.
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+namespace lrd::report {
+
+struct RunSources {
+  std::filesystem::path run_dir;                  // a `lrdslam run --out` folder
+  std::optional<std::filesystem::path> sequence;  // ground truth: SEQUENCE/groundtruth.txt
+};
+
+// Throws lrd::Error naming the file for a run folder without summary.json or track_times.txt, or
+// with one that does not parse. Without ground truth the trajectory stays in its own frame.
+[[nodiscard]] nlohmann::json collect_run_data(const RunSources& sources);
+
+}  // namespace lrd::report

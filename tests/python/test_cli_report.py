@@ -1,0 +1,128 @@
+"""The HTML report (issue 24): `run --report` and `lrdslam report RUN_DIR` write one page that
+holds everything it shows (no network), whose data agree with the run's own files; bad run folders
+stop with one line naming the file. tests/python/test_report_browser.py opens the page in Chromium."""
+import base64
+import json
+import re
+import shutil
+
+import cv2
+import numpy as np
+import pytest
+
+from cli import lrdslam
+
+FRAMES = 60
+
+
+def page_data(html):
+    m = re.search(r'<script type="application/json" id="report-data">(.*?)</script>', html, re.S)
+    assert m, "no report data in the page"
+    return json.loads(m.group(1))
+
+
+@pytest.fixture(scope="module")
+def dense_run(tmp_path_factory):
+    d = tmp_path_factory.mktemp("report")
+    lrdslam("synth", "--preset", "walking_xyz", "--frames", FRAMES, "--out", d / "seq")
+    r = lrdslam("run", "--sequence", d / "seq", "--mode", "geometric", "--dense", "--deterministic", "--quiet",
+                "--out", d / "out", "--report")
+    assert f"wrote {d / 'out' / 'report.html'}" in r.stdout
+    return d
+
+
+def test_the_page_holds_everything_it_shows(dense_run):
+    html = (dense_run / "out" / "report.html").read_text()
+    # Nothing fetched: no external script, style, image or link.
+    assert not re.search(r'<(script|img|link|iframe)[^>]+(src|href)\s*=\s*["\']?(https?:|//|file:)', html, re.I)
+    assert "<link" not in html and not re.search(r"<script[^>]+src=", html)
+    assert html.count("<script") == 3  # the data, uPlot, the page's own script
+    assert "uPlot" in html and "lrdReport" in html
+
+
+def test_the_page_data_agree_with_the_run(dense_run):
+    out = dense_run / "out"
+    data = page_data((out / "report.html").read_text())
+    summary = json.loads((out / "summary.json").read_text())
+    assert data["summary"] == summary
+    assert summary["sequence"] == str((dense_run / "seq").resolve())
+
+    # The per-frame rows are track_times.txt's.
+    rows = [l.split() for l in (out / "track_times.txt").read_text().splitlines() if not l.startswith("#")]
+    assert data["frames"]["index"] == [int(r[0]) for r in rows] and len(rows) == FRAMES
+    assert data["frames"]["state"].count("ok") == summary["tracked"]
+    assert data["frames"]["stages"]["geometry"] == pytest.approx([float(r[5]) for r in rows], abs=1e-3)
+
+    # The trajectory is aligned as the ATE aligns it: its errors give the summary's RMSE, and each
+    # aligned position lies that far from its ground-truth position.
+    t = data["trajectory"]
+    err = np.array(t["error"])
+    assert len(err) == summary["ate"]["pairs"] == summary["tracked"]
+    assert np.sqrt(np.mean(err ** 2)) == pytest.approx(summary["ate"]["rmse"], abs=2e-5)
+    est = np.array([t["est"]["x"], t["est"]["y"], t["est"]["z"]]).T
+    gt = np.array([t["gt"]["x"], t["gt"]["y"], t["gt"]["z"]]).T
+    assert np.linalg.norm(est - gt, axis=1) == pytest.approx(err, abs=3e-5)
+    truth = np.loadtxt(dense_run / "seq" / "groundtruth.txt")
+    assert len(t["gt_path"]["x"]) == len(truth)
+
+    # The maps the run drew, as they are on disk.
+    files = {i["file"]: i for i in data["images"]}
+    assert set(files) == {"dense_map.png", "occupancy_2d.png"}
+    for name, image in files.items():
+        prefix = "data:image/png;base64,"
+        assert image["src"].startswith(prefix)
+        decoded = cv2.imdecode(np.frombuffer(base64.b64decode(image["src"][len(prefix):]), np.uint8), cv2.IMREAD_COLOR)
+        assert np.array_equal(decoded, cv2.imread(str(out / name), cv2.IMREAD_COLOR)), name
+
+
+def test_the_report_command_writes_the_same_page_elsewhere_and_without_ground_truth(dense_run, tmp_path):
+    out = dense_run / "out"
+    lrdslam("report", out, "--out", tmp_path / "again.html")
+    assert page_data((tmp_path / "again.html").read_text()) == page_data((out / "report.html").read_text())
+
+    # A copy of the run whose sequence is gone: the trajectory in its own frame, no errors.
+    copy = tmp_path / "run"
+    shutil.copytree(out, copy)
+    summary = json.loads((copy / "summary.json").read_text())
+    summary["sequence"] = str(tmp_path / "gone")
+    (copy / "summary.json").write_text(json.dumps(summary))
+    lrdslam("report", copy)
+    data = page_data((copy / "report.html").read_text())
+    assert "error" not in data["trajectory"] and data["ground_truth"] == ""
+    assert len(data["trajectory"]["t"]) == summary["tracked"]
+    # --sequence names the ground truth again.
+    lrdslam("report", copy, "--sequence", dense_run / "seq")
+    assert len(page_data((copy / "report.html").read_text())["trajectory"]["error"]) == summary["tracked"]
+
+
+@pytest.mark.parametrize("case", ["no_summary", "bad_summary", "bad_times", "bad_sequence", "bad_truth"])
+def test_bad_run_folders_stop_with_one_line(dense_run, tmp_path, case):
+    run = tmp_path / "run"
+    shutil.copytree(dense_run / "out", run)
+    (run / "report.html").unlink()
+    extra = []
+    if case == "no_summary":
+        (run / "summary.json").unlink()
+        expected = f"{run / 'summary.json'}: cannot read"
+    elif case == "bad_summary":
+        (run / "summary.json").write_text("{ not json")
+        expected = f"{run / 'summary.json'}: not valid JSON"
+    elif case == "bad_times":
+        lines = (run / "track_times.txt").read_text().splitlines()
+        lines[5] = lines[5].rsplit(" ", 2)[0]
+        (run / "track_times.txt").write_text("\n".join(lines) + "\n")
+        expected = f"{run / 'track_times.txt'}:6: expected 15 fields, got 13"
+    elif case == "bad_sequence":
+        extra = ["--sequence", run / "summary.json"]
+        expected = f"{run / 'summary.json'}: not a sequence folder"
+    else:
+        seq = tmp_path / "seq"
+        seq.mkdir()
+        (seq / "groundtruth.txt").write_text("1.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n")
+        extra = ["--sequence", seq]
+        expected = f"{seq / 'groundtruth.txt'}"
+    r = lrdslam("report", run, *extra, check=False)
+    assert r.returncode == 1
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and expected in lines[0], r.stderr
+    assert not (run / "report.html").exists()

@@ -1,0 +1,79 @@
+"""The HTML report in a real browser (issue 24): Debian's headless Chromium opens the page of a
+short run from a file:// URL with the network off; the test fails on any console message (an
+uncaught error, a resource that did not load), checks that every chart the page promises was
+drawn, and that each chart's and image's region of a screenshot is not blank."""
+import json
+import re
+import shutil
+import subprocess
+
+import cv2
+import numpy as np
+import pytest
+
+from cli import lrdslam
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+WINDOW = (1000, 4400)
+CHARTS = {"trajectory-top", "trajectory-side", "ape-over-time", "stage-times", "time-distribution"}
+
+
+def chromium(profile, *args):
+    """Headless Chromium (no sandbox: the tests may run as root), its console on stderr."""
+    if CHROMIUM is None:
+        pytest.skip("chromium is not installed (scripts/install-deps.sh installs it)")
+    cmd = [CHROMIUM, "--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--mute-audio",
+           "--no-first-run", "--disable-extensions", "--proxy-server=127.0.0.1:9", "--proxy-bypass-list=<-loopback>",
+           "--force-device-scale-factor=1", f"--window-size={WINDOW[0]},{WINDOW[1]}", f"--user-data-dir={profile}",
+           "--enable-logging=stderr", "--v=0", "--virtual-time-budget=15000", *map(str, args)]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+
+
+def console_messages(stderr):
+    return [l for l in stderr.splitlines() if "CONSOLE" in l or "Failed to load" in l or "Uncaught" in l]
+
+
+@pytest.fixture(scope="module")
+def page(tmp_path_factory):
+    d = tmp_path_factory.mktemp("browser")
+    lrdslam("synth", "--preset", "walking_xyz", "--frames", 50, "--out", d / "seq")
+    lrdslam("run", "--sequence", d / "seq", "--mode", "geometric", "--dense", "--quiet", "--out", d / "out", "--report")
+    url = (d / "out" / "report.html").resolve().as_uri()
+    dom = chromium(d / "profile", "--dump-dom", url)
+    shot = chromium(d / "profile", f"--screenshot={d / 'shot.png'}", url)
+    return d, dom, shot
+
+
+def test_the_page_opens_without_a_console_message_and_draws_every_chart(page):
+    d, dom, shot = page
+    assert dom.returncode == 0 and shot.returncode == 0, dom.stderr[-2000:] + shot.stderr[-2000:]
+    assert console_messages(dom.stderr) == [] and console_messages(shot.stderr) == []
+    body = re.search(r"<body([^>]*)>", dom.stdout).group(1)
+    assert 'data-report-ready="true"' in body, dom.stdout[:2000]
+    assert set(re.search(r'data-charts="([^"]*)"', body).group(1).split()) == CHARTS
+    # uPlot drew a canvas into each chart's figure; the images are the run's, inline.
+    for chart in CHARTS:
+        figure = re.search(rf'<figure class="chart" id="{chart}".*?</figure>', dom.stdout, re.S)
+        assert figure and "<canvas" in figure.group(0), chart
+    srcs = re.findall(r'<img[^>]* src="([^"]*)"', dom.stdout)
+    assert len(srcs) == 2 and all(s.startswith("data:image/png;base64,") for s in srcs)
+    summary = json.loads((d / "out" / "summary.json").read_text())
+    assert f"{100 * summary['ate']['rmse']:.3f}" in dom.stdout  # the ATE table
+
+
+def test_each_chart_and_image_is_drawn_in_the_screenshot(page):
+    d, dom, _ = page
+    shot = cv2.imread(str(d / "shot.png"), cv2.IMREAD_COLOR)
+    assert shot is not None and shot.shape[1] == WINDOW[0]
+    boxes = re.findall(r'<figure class="(chart|image)"[^>]*data-box="(\d+),(\d+),(\d+),(\d+)"', dom.stdout)
+    assert len(boxes) == len(CHARTS) + 2
+    for kind, *box in boxes:
+        x, y, w, h = map(int, box)
+        assert y + h <= shot.shape[0], ("the page is longer than the screenshot window", box)
+        region = shot[y:y + h, x:x + w].reshape(-1, 3)
+        ink = np.count_nonzero(np.abs(region.astype(int) - 255).sum(axis=1) > 60) / len(region)
+        colours = len(np.unique(region // 16, axis=0))
+        assert ink > 0.02 and colours > 12, (kind, box, ink, colours)
+        # Charts carry their series' colours, not only black axes and text.
+        hsv = cv2.cvtColor(region.reshape(1, -1, 3), cv2.COLOR_BGR2HSV).reshape(-1, 3)
+        assert np.count_nonzero((hsv[:, 1] > 80) & (hsv[:, 2] > 60)) > 200, (kind, box)
