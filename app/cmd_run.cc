@@ -259,6 +259,7 @@ void register_run_command(CLI::App& app) {
     o.realtime = cli->realtime;
     o.preload = cli->preload;
     o.progress = !cli->quiet;
+    o.report_frames = cli->report;
     o.interrupt = &interrupt_requested;
     handle_interrupts();
     const runner::RunReport r = runner::run_sequence(o);

@@ -266,6 +266,22 @@
       axes: [{label: "total ms per frame"}, {label: "frames"}]}, [centres, counts], hbox));
   }
 
+  // ---- Sample frames -----------------------------------------------------------------------
+  function sampleSection() {
+    const samples = data.samples || [];
+    if (!samples.length) return;
+    const s = section("samples", "Sample frames",
+      "Chosen by the run (lrdslam run --report): the largest errors, the most keypoints removed by the geometry check, " +
+      "the oldest masks. Red: dynamic mask; green circles: keypoints used for tracking; magenta crosses: removed.");
+    const grid = el("div", {class: "samples"});
+    s.append(grid);
+    for (const f of samples) {
+      const caption = "frame " + f.frame + " · " + f.reasons.join(", ") + " · " + f.kept + " kept, " + f.removed + " removed" +
+        (f.mask_age >= 0 ? " · mask age " + f.mask_age : "") + (f.error !== null ? " · error " + num(100 * f.error, 2) + " cm" : "");
+      grid.append(el("figure", {class: "image sample"}, [el("img", {src: f.src, alt: "frame " + f.frame}), el("figcaption", {}, caption)]));
+    }
+  }
+
   // ---- Images ------------------------------------------------------------------------------
   function imageSection() {
     if (!data.images || !data.images.length) return;
@@ -280,8 +296,9 @@
   trajectorySection();
   errorSection();
   timeSection();
+  sampleSection();
   imageSection();
-  window.lrdReport = {charts: charts.map((c) => c.id), images: (data.images || []).length};
+  window.lrdReport = {charts: charts.map((c) => c.id), images: (data.images || []).length, samples: (data.samples || []).length};
   document.body.setAttribute("data-charts", charts.map((c) => c.id).join(" "));
   // Where each chart and image landed (page pixels), for the browser test's screenshot checks:
   // measured once the images are decoded and uPlot has sized its plots (it does so after a tick).

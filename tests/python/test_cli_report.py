@@ -75,6 +75,41 @@ def test_the_page_data_agree_with_the_run(dense_run):
         assert np.array_equal(decoded, cv2.imread(str(out / name), cv2.IMREAD_COLOR)), name
 
 
+def test_run_report_draws_the_sample_frames_it_chose(dense_run):
+    out = dense_run / "out"
+    index = json.loads((out / "report_frames" / "frames.json").read_text())["frames"]
+    rows = {int(r[0]): r for r in (l.split() for l in (out / "track_times.txt").read_text().splitlines()
+                                   if not l.startswith("#"))}
+    assert 0 < len(index) <= 24
+    chosen = {}
+    for f in index:
+        for why in f["reasons"]:
+            chosen.setdefault(why, []).append(f)
+        assert f["removed"] == int(rows[f["frame"]][14]) and f["mask_age"] == int(rows[f["frame"]][13])
+    # The most keypoints removed by the geometry check: the run's eight largest counts.
+    removed = sorted((int(r[14]) for r in rows.values()), reverse=True)[:8]
+    assert sorted((f["removed"] for f in chosen["most keypoints removed"]), reverse=True) == removed
+    # `geometric` mode uses no masks: no frame for the oldest mask.
+    assert "oldest mask" not in chosen
+    # The largest errors are errors of the trajectory as the report aligns it, largest first among
+    # those kept.
+    data = page_data((out / "report.html").read_text())
+    by_stamp = {round(t, 4): e for t, e in zip(data["trajectory"]["t"], data["trajectory"]["error"])}
+    assert len(chosen["largest error"]) == 8
+    for f in chosen["largest error"]:
+        assert f["error"] == pytest.approx(by_stamp[round(f["timestamp"], 4)], abs=2e-5)
+    # The page shows each as drawn: the mask tinted, keypoints in two colours.
+    assert [s["frame"] for s in data["samples"]] == [f["frame"] for f in index]
+    for s in data["samples"]:
+        jpeg = (out / "report_frames" / s["file"]).read_bytes()
+        assert base64.b64decode(s["src"][len("data:image/jpeg;base64,"):]) == jpeg
+    most = max(index, key=lambda f: f["removed"])
+    img = cv2.imread(str(out / "report_frames" / most["file"]), cv2.IMREAD_COLOR)
+    magenta = (img[:, :, 0] > 170) & (img[:, :, 2] > 170) & (img[:, :, 1] < 110)
+    green = (img[:, :, 1] > 150) & (img[:, :, 0] < 120) & (img[:, :, 2] < 120)
+    assert np.count_nonzero(magenta) > 10 * most["removed"] and np.count_nonzero(green) > 0
+
+
 def test_the_report_command_writes_the_same_page_elsewhere_and_without_ground_truth(dense_run, tmp_path):
     out = dense_run / "out"
     lrdslam("report", out, "--out", tmp_path / "again.html")

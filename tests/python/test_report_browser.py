@@ -1,7 +1,7 @@
 """The HTML report in a real browser (issue 24): Debian's headless Chromium opens the page of a
 short run from a file:// URL with the network off; the test fails on any console message (an
 uncaught error, a resource that did not load), checks that every chart the page promises was
-drawn, and that each chart's and image's region of a screenshot is not blank."""
+drawn, and that each chart's, map's and sample frame's region of a screenshot is not blank."""
 import json
 import re
 import shutil
@@ -14,7 +14,7 @@ import pytest
 from cli import lrdslam
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-WINDOW = (1000, 4400)
+WINDOW = (1000, 7000)
 CHARTS = {"trajectory-top", "trajectory-side", "ape-over-time", "stage-times", "time-distribution"}
 
 
@@ -56,7 +56,9 @@ def test_the_page_opens_without_a_console_message_and_draws_every_chart(page):
         figure = re.search(rf'<figure class="chart" id="{chart}".*?</figure>', dom.stdout, re.S)
         assert figure and "<canvas" in figure.group(0), chart
     srcs = re.findall(r'<img[^>]* src="([^"]*)"', dom.stdout)
-    assert len(srcs) == 2 and all(s.startswith("data:image/png;base64,") for s in srcs)
+    samples = json.loads((d / "out" / "report_frames" / "frames.json").read_text())["frames"]
+    assert len(srcs) == 2 + len(samples)
+    assert all(s.startswith("data:image/png;base64,") or s.startswith("data:image/jpeg;base64,") for s in srcs)
     summary = json.loads((d / "out" / "summary.json").read_text())
     assert f"{100 * summary['ate']['rmse']:.3f}" in dom.stdout  # the ATE table
 
@@ -65,8 +67,9 @@ def test_each_chart_and_image_is_drawn_in_the_screenshot(page):
     d, dom, _ = page
     shot = cv2.imread(str(d / "shot.png"), cv2.IMREAD_COLOR)
     assert shot is not None and shot.shape[1] == WINDOW[0]
-    boxes = re.findall(r'<figure class="(chart|image)"[^>]*data-box="(\d+),(\d+),(\d+),(\d+)"', dom.stdout)
-    assert len(boxes) == len(CHARTS) + 2
+    boxes = re.findall(r'<figure class="(chart|image|image sample)"[^>]*data-box="(\d+),(\d+),(\d+),(\d+)"', dom.stdout)
+    samples = json.loads((d / "out" / "report_frames" / "frames.json").read_text())["frames"]
+    assert len(samples) > 0 and len(boxes) == len(CHARTS) + 2 + len(samples)
     for kind, *box in boxes:
         x, y, w, h = map(int, box)
         assert y + h <= shot.shape[0], ("the page is longer than the screenshot window", box)

@@ -118,6 +118,22 @@ json run_images(const fs::path& dir) {
   return images;
 }
 
+// The frames `run --report` drew (runner/sample_frames.h), when it did.
+json sample_frames(const fs::path& dir) {
+  const fs::path index = dir / "report_frames" / "frames.json";
+  if (!fs::exists(index)) return json::array();
+  json frames = read_json(index);
+  if (!frames.is_object() || !frames.contains("frames") || !frames["frames"].is_array())
+    throw file_error(index, "not a list of sample frames (no \"frames\" array)");
+  for (json& f : frames["frames"]) {
+    if (!f.is_object() || !f.contains("file") || !f["file"].is_string())
+      throw file_error(index, "a sample frame without a \"file\"");
+    const fs::path image = dir / "report_frames" / f["file"].get<std::string>();
+    f["src"] = "data:image/jpeg;base64," + base64(util::read_file_bytes(image, "sample frame"));
+  }
+  return frames["frames"];
+}
+
 }  // namespace
 
 json collect_run_data(const RunSources& s) {
@@ -128,7 +144,8 @@ json collect_run_data(const RunSources& s) {
                {"run_dir", fs::absolute(s.run_dir).lexically_normal().string()},
                {"summary", summary},
                {"frames", frame_columns(read_track_times(s.run_dir / "track_times.txt"))},
-               {"images", run_images(s.run_dir)}};
+               {"images", run_images(s.run_dir)},
+               {"samples", sample_frames(s.run_dir)}};
   const fs::path trajectory_file = s.run_dir / "CameraTrajectory.txt";
   const io::Trajectory est =
       fs::exists(trajectory_file) ? io::read_trajectory_tum(trajectory_file) : io::Trajectory{};

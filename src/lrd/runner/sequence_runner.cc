@@ -24,6 +24,7 @@
 #include "lrd/runner/map_outputs.h"
 #include "lrd/runner/progress_bar.h"
 #include "lrd/runner/run_recorder.h"
+#include "lrd/runner/sample_frames.h"
 #include "lrd/segmentation/onnx_presets.h"
 #include "lrd/util/error.h"
 
@@ -149,6 +150,7 @@ RunReport run_sequence(const RunOptions& options) {
   std::shared_ptr<RepairRecorder> repairs;
   auto recorder = std::make_shared<RunRecorder>(seq, frames.size(), o.progress, o.save_masks);
   std::shared_ptr<FlagScorer> scorer;
+  std::shared_ptr<SampleFrameRecorder> samples;
   System slam(cfg, params, sopts);
   // A bad map file stops the run here, before any frame is tracked.
   std::vector<Eigen::Vector3d> loaded_points;  // for the relocalization latency
@@ -163,6 +165,10 @@ RunReport run_sequence(const RunOptions& options) {
     slam.subscribe(repairs);
   }
   slam.subscribe(recorder);
+  if (o.report_frames) {
+    samples = std::make_shared<SampleFrameRecorder>();
+    slam.subscribe(samples);
+  }
   // Ground-truth masks (synthetic benchmark): the dynamic flags are scored on every n-th frame.
   const fs::path folder = data_folder(o);
   if (!folder.empty() && fs::is_directory(folder / "mask") && o.flag_eval_stride > 0) {
@@ -193,6 +199,7 @@ RunReport run_sequence(const RunOptions& options) {
 
   // Evaluate.
   evaluate(report, slam, o, seq, cfg, params, repairs, loaded_points);
+  if (samples) samples->write(o.out / "report_frames", slam.trajectory(), seq.ground_truth());
   return report;
 }
 

@@ -48,6 +48,8 @@ struct RunOptions {
   // Writes each repaired keyframe (colour, depth, mask; originals beside them) here; implies the
   // dense stage's repair.
   std::optional<std::filesystem::path> save_repaired;
+  // OUT/report_frames/: sample frames drawn for the HTML report (runner/sample_frames.h).
+  bool report_frames = false;
   // Feed frames no faster than their timestamps (a live camera) instead of as fast as they are
   // tracked: the cores then have the idle time a real camera leaves the background threads.
   bool realtime = false;
