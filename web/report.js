@@ -282,6 +282,20 @@
     }
   }
 
+  // ---- Background repair -------------------------------------------------------------------
+  function repairSection() {
+    const repairs = data.repairs || [];
+    if (!repairs.length) return;
+    const s = section("repair", "Background repair",
+      "The keyframes with the most dynamic pixels (§2.8): colour before and after the repair on top, depth " +
+      "(0–5 m, near red) below; black where nothing could be filled.");
+    for (const r of repairs) {
+      const caption = "t " + since(r.timestamp).toFixed(2) + " s · " + r.dynamic_pixels + " dynamic pixels, " +
+        r.filled_pixels + " filled (" + num(100 * r.filled_pixels / Math.max(r.dynamic_pixels, 1), 1) + " %)";
+      s.append(el("figure", {class: "image repair"}, [el("img", {src: r.src, alt: "repair"}), el("figcaption", {}, caption)]));
+    }
+  }
+
   // ---- Images ------------------------------------------------------------------------------
   function imageSection() {
     if (!data.images || !data.images.length) return;
@@ -297,6 +311,7 @@
   errorSection();
   timeSection();
   sampleSection();
+  repairSection();
   imageSection();
   window.lrdReport = {charts: charts.map((c) => c.id), images: (data.images || []).length, samples: (data.samples || []).length};
   document.body.setAttribute("data-charts", charts.map((c) => c.id).join(" "));

@@ -110,6 +110,23 @@ def test_run_report_draws_the_sample_frames_it_chose(dense_run):
     assert np.count_nonzero(magenta) > 10 * most["removed"] and np.count_nonzero(green) > 0
 
 
+def test_run_report_shows_the_repairs_of_the_keyframes_with_the_most_dynamic_pixels(dense_run):
+    out = dense_run / "out"
+    repairs = json.loads((out / "report_frames" / "frames.json").read_text())["repairs"]
+    summary = json.loads((out / "summary.json").read_text())
+    assert 0 < len(repairs) <= min(6, summary["dense"]["repair"]["keyframes"])
+    dynamic = [r["dynamic_pixels"] for r in repairs]
+    assert dynamic == sorted(dynamic, reverse=True) and all(0 < r["filled_pixels"] <= r["dynamic_pixels"] for r in repairs)
+    assert sum(dynamic) <= summary["dense"]["repair"]["dynamic_pixels"]
+    data = page_data((out / "report.html").read_text())
+    assert [r["file"] for r in data["repairs"]] == [r["file"] for r in repairs]
+    # Colour before | after on top, depth below, at half size: the repair changed the colour.
+    img = cv2.imread(str(out / "report_frames" / repairs[0]["file"]), cv2.IMREAD_COLOR)
+    assert img.shape == (480, 640, 3)
+    before, after = img[:240, :320].astype(int), img[:240, 320:].astype(int)
+    assert np.mean(np.abs(before - after).sum(axis=2) > 60) > 0.02
+
+
 def test_the_report_command_writes_the_same_page_elsewhere_and_without_ground_truth(dense_run, tmp_path):
     out = dense_run / "out"
     lrdslam("report", out, "--out", tmp_path / "again.html")

@@ -14,7 +14,7 @@ import pytest
 from cli import lrdslam
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-WINDOW = (1000, 7000)
+WINDOW = (1000, 10000)
 CHARTS = {"trajectory-top", "trajectory-side", "ape-over-time", "stage-times", "time-distribution"}
 
 
@@ -56,8 +56,8 @@ def test_the_page_opens_without_a_console_message_and_draws_every_chart(page):
         figure = re.search(rf'<figure class="chart" id="{chart}".*?</figure>', dom.stdout, re.S)
         assert figure and "<canvas" in figure.group(0), chart
     srcs = re.findall(r'<img[^>]* src="([^"]*)"', dom.stdout)
-    samples = json.loads((d / "out" / "report_frames" / "frames.json").read_text())["frames"]
-    assert len(srcs) == 2 + len(samples)
+    frames = json.loads((d / "out" / "report_frames" / "frames.json").read_text())
+    assert len(srcs) == 2 + len(frames["frames"]) + len(frames["repairs"])
     assert all(s.startswith("data:image/png;base64,") or s.startswith("data:image/jpeg;base64,") for s in srcs)
     summary = json.loads((d / "out" / "summary.json").read_text())
     assert f"{100 * summary['ate']['rmse']:.3f}" in dom.stdout  # the ATE table
@@ -67,9 +67,10 @@ def test_each_chart_and_image_is_drawn_in_the_screenshot(page):
     d, dom, _ = page
     shot = cv2.imread(str(d / "shot.png"), cv2.IMREAD_COLOR)
     assert shot is not None and shot.shape[1] == WINDOW[0]
-    boxes = re.findall(r'<figure class="(chart|image|image sample)"[^>]*data-box="(\d+),(\d+),(\d+),(\d+)"', dom.stdout)
-    samples = json.loads((d / "out" / "report_frames" / "frames.json").read_text())["frames"]
-    assert len(samples) > 0 and len(boxes) == len(CHARTS) + 2 + len(samples)
+    boxes = re.findall(r'<figure class="(chart|image|image sample|image repair)"[^>]*data-box="(\d+),(\d+),(\d+),(\d+)"', dom.stdout)
+    frames = json.loads((d / "out" / "report_frames" / "frames.json").read_text())
+    samples, repairs = frames["frames"], frames["repairs"]
+    assert len(samples) > 0 and len(repairs) > 0 and len(boxes) == len(CHARTS) + 2 + len(samples) + len(repairs)
     for kind, *box in boxes:
         x, y, w, h = map(int, box)
         assert y + h <= shot.shape[0], ("the page is longer than the screenshot window", box)

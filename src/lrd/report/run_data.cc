@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <tuple>
 
 #include "lrd/eval/ate.h"
 #include "lrd/io/trajectory.h"
@@ -118,20 +119,27 @@ json run_images(const fs::path& dir) {
   return images;
 }
 
-// The frames `run --report` drew (runner/sample_frames.h), when it did.
-json sample_frames(const fs::path& dir) {
-  const fs::path index = dir / "report_frames" / "frames.json";
-  if (!fs::exists(index)) return json::array();
-  json frames = read_json(index);
-  if (!frames.is_object() || !frames.contains("frames") || !frames["frames"].is_array())
-    throw file_error(index, "not a list of sample frames (no \"frames\" array)");
-  for (json& f : frames["frames"]) {
+// Inlines each listed picture of OUT/report_frames/ (a list named `key` in frames.json).
+json inline_pictures(const fs::path& index, json list, const char* key) {
+  if (!list.is_array()) throw file_error(index, std::string("\"") + key + "\" is not a list");
+  for (json& f : list) {
     if (!f.is_object() || !f.contains("file") || !f["file"].is_string())
-      throw file_error(index, "a sample frame without a \"file\"");
-    const fs::path image = dir / "report_frames" / f["file"].get<std::string>();
-    f["src"] = "data:image/jpeg;base64," + base64(util::read_file_bytes(image, "sample frame"));
+      throw file_error(index, std::string("an entry of \"") + key + "\" without a \"file\"");
+    const fs::path image = index.parent_path() / f["file"].get<std::string>();
+    f["src"] = "data:image/jpeg;base64," + base64(util::read_file_bytes(image, "sample picture"));
   }
-  return frames["frames"];
+  return list;
+}
+
+// The sample frames and background repairs `run --report` drew (runner/sample_frames.h).
+std::pair<json, json> report_frames(const fs::path& dir) {
+  const fs::path index = dir / "report_frames" / "frames.json";
+  if (!fs::exists(index)) return {json::array(), json::array()};
+  const json frames = read_json(index);
+  if (!frames.is_object() || !frames.contains("frames") || !frames.contains("repairs"))
+    throw file_error(index, "not a list of sample frames (no \"frames\" and \"repairs\")");
+  return {inline_pictures(index, frames["frames"], "frames"),
+          inline_pictures(index, frames["repairs"], "repairs")};
 }
 
 }  // namespace
@@ -145,7 +153,9 @@ json collect_run_data(const RunSources& s) {
                {"summary", summary},
                {"frames", frame_columns(read_track_times(s.run_dir / "track_times.txt"))},
                {"images", run_images(s.run_dir)},
-               {"samples", sample_frames(s.run_dir)}};
+               {"samples", json::array()},
+               {"repairs", json::array()}};
+  std::tie(data["samples"], data["repairs"]) = report_frames(s.run_dir);
   const fs::path trajectory_file = s.run_dir / "CameraTrajectory.txt";
   const io::Trajectory est =
       fs::exists(trajectory_file) ? io::read_trajectory_tum(trajectory_file) : io::Trajectory{};

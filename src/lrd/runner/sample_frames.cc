@@ -34,6 +34,32 @@ cv::Mat draw(const cv::Mat& grey, const cv::Mat& mask, const std::vector<cv::Poi
   return bgr;
 }
 
+void write_jpeg(const fs::path& file, const cv::Mat& bgr) {
+  std::vector<std::uint8_t> jpeg;
+  if (!cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 85}))
+    throw file_error(file, "cannot encode");
+  util::write_file_bytes(file, std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size()));
+}
+
+// Depth in metres as a colour picture (0-5 m, near = red; no measurement black).
+cv::Mat depth_picture(const cv::Mat& depth) {
+  cv::Mat scaled, picture;
+  depth.convertTo(scaled, CV_8UC1, -255.0 / 5.0, 255.0);
+  cv::applyColorMap(scaled, picture, cv::COLORMAP_JET);
+  picture.setTo(cv::Scalar::all(0), depth <= 0.0f);
+  return picture;
+}
+
+// Colour before | after over depth before | after, at half size: Fig. 12 of the paper.
+cv::Mat repair_picture(const dense::RgbdView& keyframe, const dense::RepairResult& repair) {
+  cv::Mat top, bottom, both, half;
+  cv::hconcat(keyframe.bgr, repair.bgr, top);
+  cv::hconcat(depth_picture(keyframe.depth), depth_picture(repair.depth), bottom);
+  cv::vconcat(top, bottom, both);
+  cv::resize(both, half, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  return half;
+}
+
 // Each estimated stamp's ATE error (TUM alignment), empty when there is no ground truth to align.
 std::map<double, double> errors_by_stamp(const io::Trajectory& trajectory,
                                          const std::optional<io::Trajectory>& gt) {
@@ -62,6 +88,16 @@ void SampleFrameRecorder::on_frame(const events::FrameTracked& e) {
     }
   }
   forget_unused();
+}
+
+void SampleFrameRecorder::on_dense_map(const events::DenseMapUpdated& e) {
+  if (!e.repair || e.dynamic_pixels == 0) return;
+  if (repairs_.size() == kRepairs && e.dynamic_pixels <= repairs_.back().dynamic_pixels) return;
+  const auto at = std::find_if(repairs_.begin(), repairs_.end(),
+                               [&e](const Repair& r) { return e.dynamic_pixels > r.dynamic_pixels; });
+  repairs_.insert(
+      at, Repair{e.timestamp, e.dynamic_pixels, e.filled_pixels, repair_picture(e.keyframe, *e.repair)});
+  if (repairs_.size() > kRepairs) repairs_.pop_back();
 }
 
 void SampleFrameRecorder::rank(Ranked& ranked, double score, const events::FrameTracked& e) {
@@ -111,10 +147,7 @@ void SampleFrameRecorder::write(const fs::path& folder, const io::Trajectory& tr
   for (const auto& [id, why] : reasons) {
     const Sample& s = samples_.at(id);
     const std::string name = fmt::format("frame_{:06d}.jpg", id);
-    std::vector<std::uint8_t> jpeg;
-    cv::imencode(".jpg", draw(s.grey, s.mask, s.kept, s.removed), jpeg, {cv::IMWRITE_JPEG_QUALITY, 85});
-    util::write_file_bytes(folder / name,
-                           std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size()));
+    write_jpeg(folder / name, draw(s.grey, s.mask, s.kept, s.removed));
     const std::optional<double> err = error_of(s.timestamp);
     list.push_back({{"frame", id},
                     {"timestamp", s.timestamp},
@@ -126,7 +159,18 @@ void SampleFrameRecorder::write(const fs::path& folder, const io::Trajectory& tr
                     {"mask_age", s.mask_age},
                     {"error", err ? nlohmann::json(*err) : nlohmann::json(nullptr)}});
   }
-  util::write_file_bytes(folder / "frames.json", nlohmann::json{{"frames", list}}.dump(1) + "\n");
+  nlohmann::json repairs = nlohmann::json::array();
+  for (std::size_t i = 0; i < repairs_.size(); ++i) {
+    const Repair& r = repairs_[i];
+    const std::string name = fmt::format("repair_{}.jpg", i);
+    write_jpeg(folder / name, r.picture);
+    repairs.push_back({{"timestamp", r.timestamp},
+                       {"file", name},
+                       {"dynamic_pixels", r.dynamic_pixels},
+                       {"filled_pixels", r.filled_pixels}});
+  }
+  util::write_file_bytes(folder / "frames.json",
+                         nlohmann::json{{"frames", list}, {"repairs", repairs}}.dump(1) + "\n");
 }
 
 }  // namespace lrd::runner

@@ -3,7 +3,8 @@
 // the most keypoints removed by the geometry check, the oldest masks used, and the largest error
 // against ground truth (among evenly spaced frames kept as the run goes, since errors are only
 // known once the trajectory is aligned). Bounded: at most kPerReason frames per reason, and the
-// evenly spaced pool never holds more than kPool frames.
+// evenly spaced pool never holds more than kPool frames. With the dense map, also the background
+// repair (§2.8) of the kRepairs keyframes with the most dynamic pixels, before and after.
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -21,8 +22,10 @@ class SampleFrameRecorder final : public events::Subscriber {
  public:
   static constexpr std::size_t kPerReason = 8;
   static constexpr std::size_t kPool = 48;
+  static constexpr std::size_t kRepairs = 6;
 
   void on_frame(const events::FrameTracked& e) override;
+  void on_dense_map(const events::DenseMapUpdated& e) override;
 
   // Draws the chosen frames (dynamic mask tinted red, kept keypoints green, removed ones magenta)
   // as JPEGs into `folder` with frames.json naming them and why each was chosen. `ground_truth`
@@ -48,6 +51,12 @@ class SampleFrameRecorder final : public events::Subscriber {
   Ranked most_removed_, oldest_mask_;
   std::vector<std::uint64_t> pool_;  // evenly spaced frames for the largest errors
   std::uint64_t pool_stride_ = 1;
+  struct Repair {
+    double timestamp = 0.0;
+    std::size_t dynamic_pixels = 0, filled_pixels = 0;
+    cv::Mat picture;  // colour and depth, before and after, in one image
+  };
+  std::vector<Repair> repairs_;  // most dynamic pixels first
 };
 
 }  // namespace lrd::runner
