@@ -1,32 +1,10 @@
 #pragma once
-// The yardstick Y every benchmark reports against: the median time of OpenCV's
-// cv::ORB::create(1000, 1.2f, 8)->detectAndCompute on the same sequence's grey frames. These
-// machines vary run to run, so targets are ratios to Y measured in the same run.
-#include <algorithm>
-#include <chrono>
-#include <opencv2/features2d.hpp>
-#include <vector>
+// The yardstick Y (lrd/util/yardstick.h), by the names the benchmarks use.
+#include "lrd/util/yardstick.h"
 
 namespace lrd::bench {
 
-inline double median_of(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-// Median milliseconds of OpenCV ORB (1000 features, scale 1.2, 8 levels) over `grey` frames.
-inline double yardstick_ms(const std::vector<cv::Mat>& grey) {
-  auto orb = cv::ORB::create(1000, 1.2f, 8);
-  std::vector<double> ms;
-  std::vector<cv::KeyPoint> kps;
-  cv::Mat desc;
-  for (const cv::Mat& g : grey) {
-    const auto t0 = std::chrono::steady_clock::now();
-    orb->detectAndCompute(g, cv::noArray(), kps, desc);
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-  }
-  return median_of(ms);
-}
+using util::median_of;
+using util::yardstick_ms;
 
 }  // namespace lrd::bench

@@ -236,9 +236,15 @@
                   ["waiting", "#b58900"], ["mapping", "#cb4b16"]];
   function timeSection() {
     const F = data.frames;
+    // Y: OpenCV ORB on this run's frames, timed by `run --report` after the run (see the README's
+    // Benchmarks): times on the right axis are multiples of it.
+    const Y = data.yardstick && data.yardstick.ms ? data.yardstick.ms : null;
+    const median = summary.per_frame && summary.per_frame.total && summary.per_frame.total.median_ms;
     const s = section("time", "Time per frame",
       "Stacked: the stages of the tracking thread (ms); segmentation runs in its own thread and is drawn apart. " +
-      "Median total " + num(summary.per_frame && summary.per_frame.total && summary.per_frame.total.median_ms, 2) + " ms.");
+      "Median total " + num(median, 2) + " ms" + (Y ? " = " + num(median / Y, 2) + " Y, where Y = " + num(Y, 2) +
+      " ms is OpenCV ORB (1000 features) on " + data.yardstick.frames + " of this run's frames, timed after the run." : "."));
+    const inY = Y ? [{scale: "y", side: 1, label: "× Y", grid: {show: false}, values: (u, ticks) => ticks.map((t) => (t / Y).toFixed(1))}] : [];
     if (!F.t.length) return;
     const box = chartBox(s, "stage-times", "Per-stage time over the frames (stacked, ms)");
     const rows = [F.index], series = [{label: "frame"}], bands = [];
@@ -254,7 +260,7 @@
     rows.push(F.stages.segmentation);
     // Each stage's fill reaches down to the stage below it, not to zero.
     register("stage-times", new uPlot({width: 940, height: 300, scales: {x: {time: false}}, series: series, bands: bands,
-                                        axes: [{label: "frame"}, {label: "ms"}]}, rows, box));
+                                        axes: [{label: "frame"}, {label: "ms"}].concat(inY)}, rows, box));
     const hbox = chartBox(s, "time-distribution", "Distribution of the total time per frame");
     const totals = F.total.slice().sort((a, b) => a - b), bins = 30;
     const lo = totals[0], hi = totals[totals.length - 1], w = Math.max((hi - lo) / bins, 1e-3);

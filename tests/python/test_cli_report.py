@@ -98,6 +98,8 @@ def test_run_report_draws_the_sample_frames_it_chose(dense_run):
     assert len(chosen["largest error"]) == 8
     for f in chosen["largest error"]:
         assert f["error"] == pytest.approx(by_stamp[round(f["timestamp"], 4)], abs=2e-5)
+    # Y, timed on the pool's frames after the run, for the times on the page.
+    assert data["yardstick"]["frames"] > 0 and data["yardstick"]["ms"] > 0
     # The page shows each as drawn: the mask tinted, keypoints in two colours.
     assert [s["frame"] for s in data["samples"]] == [f["frame"] for f in index]
     for s in data["samples"]:

@@ -61,6 +61,7 @@ def test_the_page_opens_without_a_console_message_and_draws_every_chart(page):
     assert all(s.startswith("data:image/png;base64,") or s.startswith("data:image/jpeg;base64,") for s in srcs)
     summary = json.loads((d / "out" / "summary.json").read_text())
     assert f"{100 * summary['ate']['rmse']:.3f}" in dom.stdout  # the ATE table
+    assert re.search(r"Median total [0-9.]+ ms = [0-9.]+ Y, where Y = [0-9.]+ ms", dom.stdout)
 
 
 def test_each_chart_and_image_is_drawn_in_the_screenshot(page):

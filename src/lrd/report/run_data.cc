@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <fstream>
-#include <tuple>
 
 #include "lrd/eval/ate.h"
 #include "lrd/io/trajectory.h"
@@ -132,14 +131,16 @@ json inline_pictures(const fs::path& index, json list, const char* key) {
 }
 
 // The sample frames and background repairs `run --report` drew (runner/sample_frames.h).
-std::pair<json, json> report_frames(const fs::path& dir) {
+void add_report_frames(json& data, const fs::path& dir) {
   const fs::path index = dir / "report_frames" / "frames.json";
-  if (!fs::exists(index)) return {json::array(), json::array()};
+  if (!fs::exists(index)) return;
   const json frames = read_json(index);
   if (!frames.is_object() || !frames.contains("frames") || !frames.contains("repairs"))
     throw file_error(index, "not a list of sample frames (no \"frames\" and \"repairs\")");
-  return {inline_pictures(index, frames["frames"], "frames"),
-          inline_pictures(index, frames["repairs"], "repairs")};
+  data["samples"] = inline_pictures(index, frames["frames"], "frames");
+  data["repairs"] = inline_pictures(index, frames["repairs"], "repairs");
+  if (frames.contains("yardstick") && frames["yardstick"].is_object())
+    data["yardstick"] = frames["yardstick"];
 }
 
 }  // namespace
@@ -155,7 +156,7 @@ json collect_run_data(const RunSources& s) {
                {"images", run_images(s.run_dir)},
                {"samples", json::array()},
                {"repairs", json::array()}};
-  std::tie(data["samples"], data["repairs"]) = report_frames(s.run_dir);
+  add_report_frames(data, s.run_dir);
   const fs::path trajectory_file = s.run_dir / "CameraTrajectory.txt";
   const io::Trajectory est =
       fs::exists(trajectory_file) ? io::read_trajectory_tum(trajectory_file) : io::Trajectory{};

@@ -11,6 +11,7 @@
 #include "lrd/eval/ate.h"
 #include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
+#include "lrd/util/yardstick.h"
 
 namespace lrd::runner {
 namespace fs = std::filesystem;
@@ -169,8 +170,15 @@ void SampleFrameRecorder::write(const fs::path& folder, const io::Trajectory& tr
                        {"dynamic_pixels", r.dynamic_pixels},
                        {"filled_pixels", r.filled_pixels}});
   }
-  util::write_file_bytes(folder / "frames.json",
-                         nlohmann::json{{"frames", list}, {"repairs", repairs}}.dump(1) + "\n");
+  // Y on this run's frames (the pool), timed after the run so that nothing competes with it.
+  std::vector<cv::Mat> grey;
+  for (const std::uint64_t id : pool_) grey.push_back(samples_.at(id).grey);
+  const nlohmann::json yardstick = {
+      {"ms", grey.empty() ? nlohmann::json(nullptr) : nlohmann::json(util::yardstick_ms(grey))},
+      {"frames", grey.size()}};
+  util::write_file_bytes(
+      folder / "frames.json",
+      nlohmann::json{{"frames", list}, {"repairs", repairs}, {"yardstick", yardstick}}.dump(1) + "\n");
 }
 
 }  // namespace lrd::runner

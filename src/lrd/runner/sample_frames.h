@@ -28,7 +28,8 @@ class SampleFrameRecorder final : public events::Subscriber {
   void on_dense_map(const events::DenseMapUpdated& e) override;
 
   // Draws the chosen frames (dynamic mask tinted red, kept keypoints green, removed ones magenta)
-  // as JPEGs into `folder` with frames.json naming them and why each was chosen. `ground_truth`
+  // as JPEGs into `folder` with frames.json naming them and why each was chosen, and the
+  // yardstick Y timed on the pool's frames. `ground_truth`
   // and `trajectory` pick the largest errors (none without ground truth). After System::shutdown.
   void write(const std::filesystem::path& folder, const io::Trajectory& trajectory,
              const std::optional<io::Trajectory>& ground_truth) const;
