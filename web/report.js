@@ -229,6 +229,20 @@
     axes.push({scale: "n", label: "inliers", side: T.error ? 1 : 3, grid: {show: !T.error}});
     register("ape-over-time", new uPlot({width: 940, height: 300, scales: {x: {time: false}}, series: series, axes: axes,
                                           hooks: {drawClear: [eventsHook]}}, rows, box));
+    flagsChart(s);
+  }
+
+  // Dynamic flags against the synthetic benchmark's person masks, on the frames the run scored.
+  function flagsChart(parent) {
+    const G = data.flags;
+    if (!G || !G.frame.length) return;
+    const ratio = (a, b) => a.map((v, i) => (v + b[i] > 0 ? v / (v + b[i]) : null));
+    const precision = ratio(G.true_positive, G.false_positive), recall = ratio(G.true_positive, G.false_negative);
+    const box = chartBox(parent, "flags-over-time", "Dynamic-flag precision and recall per scored frame (keypoints on people flagged dynamic)");
+    register("flags-over-time", new uPlot({width: 940, height: 240, scales: {x: {time: false}, y: {range: [0, 1]}},
+      series: [{label: "frame"}, {label: "precision", stroke: "#6c71c4", width: 1.5, points: {show: true, size: 4}},
+               {label: "recall", stroke: "#2aa198", width: 1.5, points: {show: true, size: 4}}],
+      axes: [{label: "frame"}, {label: "share"}]}, [G.frame, precision, recall], box));
   }
 
   // ---- Time per stage ----------------------------------------------------------------------

@@ -15,6 +15,10 @@ from cli import lrdslam
 FRAMES = 60
 
 
+def summary_of(out):
+    return json.loads((out / "summary.json").read_text())
+
+
 def page_data(html):
     m = re.search(r'<script type="application/json" id="report-data">(.*?)</script>', html, re.S)
     assert m, "no report data in the page"
@@ -98,6 +102,11 @@ def test_run_report_draws_the_sample_frames_it_chose(dense_run):
     assert len(chosen["largest error"]) == 8
     for f in chosen["largest error"]:
         assert f["error"] == pytest.approx(by_stamp[round(f["timestamp"], 4)], abs=2e-5)
+    # The dynamic flags of each scored frame add up to the summary's.
+    flags, totals = data["flags"], summary_of(out)["dynamic_flags"]
+    assert len(flags["frame"]) == totals["frames"] > 0
+    for key in ("true_positive", "false_positive", "false_negative"):
+        assert sum(flags[key]) == totals[key], key
     # Y, timed on the pool's frames after the run, for the times on the page.
     assert data["yardstick"]["frames"] > 0 and data["yardstick"]["ms"] > 0
     # The page shows each as drawn: the mask tinted, keypoints in two colours.

@@ -15,7 +15,7 @@ from cli import lrdslam
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 WINDOW = (1000, 10000)
-CHARTS = {"trajectory-top", "trajectory-side", "ape-over-time", "stage-times", "time-distribution"}
+CHARTS = {"trajectory-top", "trajectory-side", "ape-over-time", "flags-over-time", "stage-times", "time-distribution"}
 
 
 def chromium(profile, *args):

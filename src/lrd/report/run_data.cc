@@ -141,6 +141,7 @@ void add_report_frames(json& data, const fs::path& dir) {
   data["repairs"] = inline_pictures(index, frames["repairs"], "repairs");
   if (frames.contains("yardstick") && frames["yardstick"].is_object())
     data["yardstick"] = frames["yardstick"];
+  if (frames.contains("flags") && frames["flags"].is_object()) data["flags"] = frames["flags"];
 }
 
 }  // namespace

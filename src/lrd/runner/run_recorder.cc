@@ -50,6 +50,7 @@ void FlagScorer::on_frame(const events::FrameTracked& e) {
   static tbb::task_arena single_thread(1);
   single_thread.execute([&] { extractor_.extract(e.grey, cv::Mat(), keypoints, descriptors); });
   ++score_.frames;
+  const FlagScore before = score_;
   for (const cv::KeyPoint& kp : keypoints) {
     const int u = std::clamp(cvRound(kp.pt.x), 0, truth.cols - 1);
     const int v = std::clamp(cvRound(kp.pt.y), 0, truth.rows - 1);
@@ -64,6 +65,9 @@ void FlagScorer::on_frame(const events::FrameTracked& e) {
       score_.moved_object_flagged += flagged ? 1 : 0;
     }
   }
+  per_frame_.push_back({index, score_.true_positive - before.true_positive,
+                        score_.false_positive - before.false_positive,
+                        score_.false_negative - before.false_negative});
 }
 
 FlagScore FlagScorer::score() const {

@@ -39,6 +39,7 @@ class FlagScorer final : public events::Subscriber {
              const features::OrbParams& orb, int stride);
   void on_frame(const events::FrameTracked& e) override;
   [[nodiscard]] FlagScore score() const;
+  [[nodiscard]] const std::vector<FrameFlags>& per_frame() const { return per_frame_; }
 
  private:
   const io::FrameSource& sequence_;
@@ -46,6 +47,7 @@ class FlagScorer final : public events::Subscriber {
   features::OrbExtractor extractor_;
   int stride_;
   FlagScore score_;
+  std::vector<FrameFlags> per_frame_;
 };
 
 }  // namespace lrd::runner

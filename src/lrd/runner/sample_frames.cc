@@ -75,6 +75,21 @@ std::map<double, double> errors_by_stamp(const io::Trajectory& trajectory,
   return errors;
 }
 
+// Columns, as the page draws them.
+nlohmann::json flags_json(const std::vector<FrameFlags>& flags) {
+  nlohmann::json j = {{"frame", nlohmann::json::array()},
+                      {"true_positive", nlohmann::json::array()},
+                      {"false_positive", nlohmann::json::array()},
+                      {"false_negative", nlohmann::json::array()}};
+  for (const FrameFlags& f : flags) {
+    j["frame"].push_back(f.frame);
+    j["true_positive"].push_back(f.true_positive);
+    j["false_positive"].push_back(f.false_positive);
+    j["false_negative"].push_back(f.false_negative);
+  }
+  return j;
+}
+
 }  // namespace
 
 void SampleFrameRecorder::on_frame(const events::FrameTracked& e) {
@@ -126,7 +141,8 @@ void SampleFrameRecorder::forget_unused() {
 }
 
 void SampleFrameRecorder::write(const fs::path& folder, const io::Trajectory& trajectory,
-                                const std::optional<io::Trajectory>& ground_truth) const {
+                                const std::optional<io::Trajectory>& ground_truth,
+                                const std::vector<FrameFlags>& flags) const {
   const std::map<double, double> errors = errors_by_stamp(trajectory, ground_truth);
   const auto error_of = [&errors](double t) -> std::optional<double> {
     const auto it = errors.lower_bound(t - 1e-6);
@@ -178,7 +194,10 @@ void SampleFrameRecorder::write(const fs::path& folder, const io::Trajectory& tr
       {"frames", grey.size()}};
   util::write_file_bytes(
       folder / "frames.json",
-      nlohmann::json{{"frames", list}, {"repairs", repairs}, {"yardstick", yardstick}}.dump(1) + "\n");
+      nlohmann::json{
+          {"frames", list}, {"repairs", repairs}, {"yardstick", yardstick}, {"flags", flags_json(flags)}}
+              .dump(1) +
+          "\n");
 }
 
 }  // namespace lrd::runner

@@ -15,6 +15,7 @@
 
 #include "lrd/events/event_publisher.h"
 #include "lrd/io/trajectory.h"
+#include "lrd/runner/sequence_runner.h"
 
 namespace lrd::runner {
 
@@ -31,8 +32,9 @@ class SampleFrameRecorder final : public events::Subscriber {
   // as JPEGs into `folder` with frames.json naming them and why each was chosen, and the
   // yardstick Y timed on the pool's frames. `ground_truth`
   // and `trajectory` pick the largest errors (none without ground truth). After System::shutdown.
+  // `flags`: the scored frames' dynamic flags (FlagScorer; empty without ground-truth masks).
   void write(const std::filesystem::path& folder, const io::Trajectory& trajectory,
-             const std::optional<io::Trajectory>& ground_truth) const;
+             const std::optional<io::Trajectory>& ground_truth, const std::vector<FrameFlags>& flags) const;
 
  private:
   struct Sample {

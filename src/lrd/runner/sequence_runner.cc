@@ -199,7 +199,9 @@ RunReport run_sequence(const RunOptions& options) {
 
   // Evaluate.
   evaluate(report, slam, o, seq, cfg, params, repairs, loaded_points);
-  if (samples) samples->write(o.out / "report_frames", slam.trajectory(), seq.ground_truth());
+  if (samples)
+    samples->write(o.out / "report_frames", slam.trajectory(), seq.ground_truth(),
+                   scorer ? scorer->per_frame() : std::vector<FrameFlags>{});
   return report;
 }
 

@@ -127,6 +127,12 @@ struct FlagScore {
   [[nodiscard]] double moved_object_recall() const;
 };
 
+// One scored frame's dynamic flags (FlagScorer), for the report's precision and recall over time.
+struct FrameFlags {
+  std::size_t frame = 0;
+  std::size_t true_positive = 0, false_positive = 0, false_negative = 0;
+};
+
 struct StageSummary {
   double median_ms = 0.0;
   double mean_ms = 0.0;
