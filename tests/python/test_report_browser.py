@@ -22,7 +22,7 @@ def chromium(profile, *args):
     """Headless Chromium (no sandbox: the tests may run as root), its console on stderr."""
     if CHROMIUM is None:
         pytest.skip("chromium is not installed (scripts/install-deps.sh installs it)")
-    cmd = [CHROMIUM, "--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--mute-audio",
+    cmd = [CHROMIUM, "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--hide-scrollbars", "--mute-audio",
            "--no-first-run", "--disable-extensions", "--proxy-server=127.0.0.1:9", "--proxy-bypass-list=<-loopback>",
            "--force-device-scale-factor=1", f"--window-size={WINDOW[0]},{WINDOW[1]}", f"--user-data-dir={profile}",
            "--enable-logging=stderr", "--v=0", "--virtual-time-budget=15000", *map(str, args)]
