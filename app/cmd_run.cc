@@ -260,6 +260,7 @@ void register_run_command(CLI::App& app) {
     o.preload = cli->preload;
     o.progress = !cli->quiet;
     o.report_frames = cli->report;
+    if (cli->report) report::check_report_assets();  // a missing asset stops the run before it starts
     o.interrupt = &interrupt_requested;
     handle_interrupts();
     const runner::RunReport r = runner::run_sequence(o);

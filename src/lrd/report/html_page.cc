@@ -71,11 +71,16 @@ std::string base64(const std::string& bytes) {
   return out;
 }
 
+constexpr Asset kUplot{"data/web/uPlot.iife.min.js", "scripts/fetch-web-assets.sh"};
+constexpr Asset kUplotCss{"data/web/uPlot.min.css", "scripts/fetch-web-assets.sh"};
+constexpr Asset kScript{"web/report.js", nullptr};
+constexpr Asset kStyle{"web/report.css", nullptr};
+
+void check_report_assets() {
+  for (const Asset& asset : {kUplot, kUplotCss, kScript, kStyle}) (void)read_asset(asset);
+}
+
 void write_html_report(const fs::path& file, const nlohmann::json& data) {
-  static constexpr Asset kUplot{"data/web/uPlot.iife.min.js", "scripts/fetch-web-assets.sh"};
-  static constexpr Asset kUplotCss{"data/web/uPlot.min.css", "scripts/fetch-web-assets.sh"};
-  static constexpr Asset kScript{"web/report.js", nullptr};
-  static constexpr Asset kStyle{"web/report.css", nullptr};
   std::string page;
   page += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   page += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";

@@ -12,6 +12,9 @@ namespace lrd::report {
 // the script that fetches it) or the output file when it cannot be written.
 void write_html_report(const std::filesystem::path& file, const nlohmann::json& data);
 
+// The same error now, for a missing asset: `run --report` checks before tracking, not after.
+void check_report_assets();
+
 // RFC 4648 base64 (for data: URIs).
 [[nodiscard]] std::string base64(const std::string& bytes);
 
