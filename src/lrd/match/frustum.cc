@@ -27,4 +27,16 @@ std::optional<FrustumProjection> project_in_frustum(const data::Frame& f, const 
   return p;
 }
 
+bool mark_for_projection_search(const data::Frame& f, map::MapPoint& mp) {
+  const auto seen = project_in_frustum(f, f.T_cw(), mp, 0.5f);
+  mp.track.in_view = seen.has_value();
+  if (!seen) return false;
+  mp.track.proj_x = static_cast<float>(seen->pixel.x());
+  mp.track.proj_y = static_cast<float>(seen->pixel.y());
+  mp.track.proj_xr = static_cast<float>(seen->pixel.x() - f.camera().bf / seen->point_camera.z());
+  mp.track.scale_level = seen->level;
+  mp.track.view_cos = seen->view_cos;
+  return true;
+}
+
 }  // namespace lrd::match

@@ -30,4 +30,8 @@ struct FrustumProjection {
                                                                   const map::MapPoint& mp,
                                                                   float min_view_cos = 0.5f);
 
+// Projects `mp` into `f` at f's pose (viewing angle up to 60 degrees) and keeps the projection in
+// mp.track, where OrbMatcher::search_by_projection reads it; returns track.in_view.
+bool mark_for_projection_search(const data::Frame& f, map::MapPoint& mp);
+
 }  // namespace lrd::match

@@ -93,17 +93,20 @@ nlohmann::json flags_json(const std::vector<FrameFlags>& flags) {
 }  // namespace
 
 void SampleFrameRecorder::on_frame(const events::FrameTracked& e) {
-  if (!e.removed_keypoints.empty()) rank(most_removed_, static_cast<double>(e.removed_keypoints.size()), e);
-  if (e.mask_age > 0) rank(oldest_mask_, e.mask_age, e);
+  bool kept = false;  // only a frame kept can push another out
+  if (!e.removed_keypoints.empty())
+    kept |= rank(most_removed_, static_cast<double>(e.removed_keypoints.size()), e);
+  if (e.mask_age > 0) kept |= rank(oldest_mask_, e.mask_age, e);
   if (e.T_wc && e.frame_id % pool_stride_ == 0) {
     pool_.push_back(e.frame_id);
     keep(e);
+    kept = true;
     if (pool_.size() > kPool) {  // keep every other one: the pool stays evenly spaced over the run
       pool_stride_ *= 2;
       std::erase_if(pool_, [this](std::uint64_t id) { return id % pool_stride_ != 0; });
     }
   }
-  forget_unused();
+  if (kept) forget_unused();
 }
 
 void SampleFrameRecorder::on_dense_map(const events::DenseMapUpdated& e) {
@@ -116,13 +119,14 @@ void SampleFrameRecorder::on_dense_map(const events::DenseMapUpdated& e) {
   if (repairs_.size() > kRepairs) repairs_.pop_back();
 }
 
-void SampleFrameRecorder::rank(Ranked& ranked, double score, const events::FrameTracked& e) {
-  if (ranked.size() == kPerReason && score <= ranked.back().first) return;
+bool SampleFrameRecorder::rank(Ranked& ranked, double score, const events::FrameTracked& e) {
+  if (ranked.size() == kPerReason && score <= ranked.back().first) return false;
   const auto at =
       std::find_if(ranked.begin(), ranked.end(), [score](const auto& r) { return score > r.first; });
   ranked.insert(at, {score, e.frame_id});
   if (ranked.size() > kPerReason) ranked.pop_back();
   keep(e);
+  return true;
 }
 
 void SampleFrameRecorder::keep(const events::FrameTracked& e) {

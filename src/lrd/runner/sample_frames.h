@@ -45,8 +45,8 @@ class SampleFrameRecorder final : public events::Subscriber {
     cv::Mat grey, mask;
     std::vector<cv::Point2f> kept, removed;
   };
-  using Ranked = std::vector<std::pair<double, std::uint64_t>>;  // (score, frame), best first
-  void rank(Ranked& ranked, double score, const events::FrameTracked& e);
+  using Ranked = std::vector<std::pair<double, std::uint64_t>>;            // (score, frame), best first
+  bool rank(Ranked& ranked, double score, const events::FrameTracked& e);  // true: kept
   void keep(const events::FrameTracked& e);
   void forget_unused();
 

@@ -33,15 +33,7 @@ int guided_matches(data::Frame& frame, const map::KeyFrame& kf, const match::Orb
   std::vector<map::MapPoint*> points;
   for (map::MapPoint* mp : kf.map_points()) {
     if (mp == nullptr || mp->is_bad() || matched.count(mp) != 0) continue;
-    const auto seen = match::project_in_frustum(frame, frame.T_cw(), *mp, 0.5f);
-    mp->track.in_view = seen.has_value();
-    if (!seen) continue;
-    mp->track.proj_x = static_cast<float>(seen->pixel.x());
-    mp->track.proj_y = static_cast<float>(seen->pixel.y());
-    mp->track.proj_xr = static_cast<float>(seen->pixel.x() - frame.camera().bf / seen->point_camera.z());
-    mp->track.scale_level = seen->level;
-    mp->track.view_cos = seen->view_cos;
-    points.push_back(mp);
+    if (match::mark_for_projection_search(frame, *mp)) points.push_back(mp);
   }
   return matcher.search_by_projection(frame, points, th);
 }

@@ -412,14 +412,7 @@ int Tracker::search_local_points(data::Frame& frame) {
       if (mp->track.last_frame_seen != tag) mp->track.in_view = false;
       continue;
     }
-    const auto seen = match::project_in_frustum(frame, frame.T_cw(), *mp, 0.5f);
-    mp->track.in_view = seen.has_value();
-    if (!seen) continue;
-    mp->track.proj_x = static_cast<float>(seen->pixel.x());
-    mp->track.proj_y = static_cast<float>(seen->pixel.y());
-    mp->track.proj_xr = static_cast<float>(seen->pixel.x() - frame.camera().bf / seen->point_camera.z());
-    mp->track.scale_level = seen->level;
-    mp->track.view_cos = seen->view_cos;
+    if (!match::mark_for_projection_search(frame, *mp)) continue;
     mp->increase_visible();
     ++to_match;
   }
