@@ -3,7 +3,8 @@
 // translation, RPE rotation: RMSE / mean / median / std per mode), Table 10 (mean and median
 // time per frame per mode, also as multiples of the yardstick Y) and the improvement rate
 // eta = (static - mode) / static (Eq. 12) — as Markdown and JSON, plus the dynamic keypoint
-// flags' precision and recall against the ground-truth masks.
+// flags' precision and recall against the ground-truth masks; and report.html, the same tables
+// with every mode's trajectory per preset (`lrdslam report OUT` writes it again).
 //
 //   bench_dynamic [--presets a,b] [--modes static,semantic,geometric,full] [--segmenter NAME]
 //                 [--sync] [--frames N] [--cache DIR] [--out DIR]
@@ -26,6 +27,8 @@
 
 #include "bench/sequence_cache.h"
 #include "lrd/eval/improvement.h"
+#include "lrd/report/benchmark_data.h"
+#include "lrd/report/html_page.h"
 #include "lrd/runner/sequence_runner.h"
 
 namespace fs = std::filesystem;
@@ -155,6 +158,10 @@ int main(int argc, char** argv) {
   non_static_header();
   nlohmann::json js;
   js["segmenter"] = segmenter;
+  js["seed"] = 1;
+  js["frames"] = frames;
+  js["presets"] = presets;
+  js["modes"] = modes;
   for (const auto& p : presets) {
     md << "| " << p << " |";
     const auto base = cells.find(p + "/static");
@@ -220,6 +227,7 @@ int main(int argc, char** argv) {
     nlohmann::json j = {
         {"preset", c.preset},
         {"mode", c.mode},
+        {"run_dir", (fs::path("runs") / c.preset / c.mode).string()},
         {"frames", r.frames},
         {"lost", r.lost},
         {"keyframes", r.map.keyframes},
@@ -250,5 +258,13 @@ int main(int argc, char** argv) {
   std::ofstream(fs::path(out_dir) / "tables.md") << md.str();
   std::ofstream(fs::path(out_dir) / "results.json") << js.dump(2) << "\n";
   std::printf("wrote %s/tables.md and %s/results.json\n", out_dir.c_str(), out_dir.c_str());
+  try {
+    const fs::path page = fs::path(out_dir) / "report.html";
+    lrd::report::write_html_report(page, lrd::report::collect_benchmark_data(out_dir));
+    std::printf("wrote %s\n", page.string().c_str());
+  } catch (const std::exception& e) {  // the tables stand without the page (e.g. uPlot not fetched)
+    std::fprintf(stderr, "bench_dynamic: no report.html: %s\n", e.what());
+    return 1;
+  }
   return 0;
 }

@@ -1,5 +1,6 @@
 // The page of `lrdslam report` (issue 24): draws the run data that src/lrd/report/run_data.cc put
-// into #report-data with uPlot (inlined beside this script). No network: everything is in the page.
+// into #report-data with uPlot and common.js (inlined before this script). No network: everything
+// is in the page.
 (function () {
   "use strict";
   const data = JSON.parse(document.getElementById("report-data").textContent);
@@ -12,45 +13,11 @@
   const STATE_COLOURS = {"lost": "rgba(220, 50, 47, 0.18)", "not-initialized": "rgba(130, 130, 130, 0.15)",
                          "not-localized": "rgba(181, 137, 0, 0.18)"};
 
-  function el(tag, attrs, children) {
-    const e = document.createElement(tag);
-    for (const [k, v] of Object.entries(attrs || {})) e.setAttribute(k, v);
-    for (const c of [].concat(children || [])) e.append(c instanceof Node ? c : document.createTextNode(String(c)));
-    return e;
-  }
-  function num(v, digits) {
-    if (v === undefined || v === null || Number.isNaN(v)) return "–";
-    return typeof v === "number" ? (Number.isInteger(v) ? String(v) : v.toFixed(digits === undefined ? 3 : digits)) : String(v);
-  }
-  function section(id, title, intro) {
-    const s = el("section", {id: id}, [el("h2", {}, title)]);
-    if (intro) s.append(el("p", {class: "intro"}, intro));
-    root.append(s);
-    return s;
-  }
-  function table(rows, head) {
-    const t = el("table");
-    if (head) t.append(el("tr", {}, head.map((h) => el("th", {}, h))));
-    for (const r of rows) t.append(el("tr", {}, r.map((c, i) => el(i === 0 && !head ? "th" : "td", {}, c))));
-    return t;
-  }
-  function chartBox(parent, id, caption) {
-    const box = el("figure", {class: "chart", id: id});
-    parent.append(box);
-    if (caption) box.append(el("figcaption", {}, caption));
-    return box;
-  }
+  const {el, num, table, chartBox, ramp, equalRanges, drawPolyline} = window.lrdCommon;
+  const section = (id, title, intro) => window.lrdCommon.section(root, id, title, intro);
   function register(id, plot) {
     charts.push({id: id, plot: plot});
     return plot;
-  }
-  // Error → colour, from blue (0) through green and yellow to red (the largest error).
-  function ramp(f) {
-    const stops = [[49, 54, 149], [69, 117, 180], [116, 173, 209], [171, 221, 164], [254, 224, 139],
-                   [244, 109, 67], [215, 48, 39]];
-    const x = Math.min(Math.max(f, 0), 1) * (stops.length - 1), i = Math.min(Math.floor(x), stops.length - 2);
-    const a = stops[i], b = stops[i + 1], w = x - i;
-    return "rgb(" + a.map((c, k) => Math.round(c + (b[k] - c) * w)).join(",") + ")";
   }
 
   // ---- Summary -----------------------------------------------------------------------------
@@ -92,29 +59,6 @@
   }
 
   // ---- Trajectory --------------------------------------------------------------------------
-  // Equal metres per pixel on both axes, so that a turn looks like a turn.
-  function equalRanges(xs, ys, width, height) {
-    let x0 = Math.min(...xs), x1 = Math.max(...xs), y0 = Math.min(...ys), y1 = Math.max(...ys);
-    const per = Math.max((x1 - x0) / width, (y1 - y0) / height, 1e-4) * 1.1;
-    const cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
-    return [[cx - per * width / 2, cx + per * width / 2], [cy - per * height / 2, cy + per * height / 2]];
-  }
-  function drawPolyline(u, seriesIdx, colourOf) {
-    uPlot.orient(u, seriesIdx, (series, dx, dy, sx, sy, valToPosX, valToPosY, xOff, yOff, xDim, yDim) => {
-      const ctx = u.ctx;
-      ctx.save();
-      ctx.lineWidth = 2 * uPlot.pxRatio;
-      for (let i = 1; i < dx.length; i++) {
-        ctx.strokeStyle = colourOf(i);
-        ctx.beginPath();
-        ctx.moveTo(valToPosX(dx[i - 1], sx, xDim, xOff), valToPosY(dy[i - 1], sy, yDim, yOff));
-        ctx.lineTo(valToPosX(dx[i], sx, xDim, xOff), valToPosY(dy[i], sy, yDim, yOff));
-        ctx.stroke();
-      }
-      ctx.restore();
-    });
-    return null;
-  }
   function trajectoryChart(parent, id, title, axes) {
     const T = data.trajectory, est = [T.est[axes[0]], T.est[axes[1]]];
     const ref = T.gt_path ? [T.gt_path[axes[0]], T.gt_path[axes[1]]] : est;
@@ -326,6 +270,14 @@
     }
   }
 
+  // ---- 3-D map (web/map3d.js, with three.js, inlined when the run wrote a map) ---------------
+  function map3dSection() {
+    if (!data.map3d || !window.lrdMap3d) return;
+    const s = section("map3d", "3-D map", "The dense map (coloured), the sparse map's points (dark) and the keyframes " +
+      "(red), in the first camera's frame. Drag to orbit, wheel to zoom, right-drag to pan.");
+    window.lrdMap3d(s, data.map3d, register);
+  }
+
   summarySection();
   trajectorySection();
   errorSection();
@@ -333,15 +285,7 @@
   sampleSection();
   repairSection();
   imageSection();
+  map3dSection();
   window.lrdReport = {charts: charts.map((c) => c.id), images: (data.images || []).length, samples: (data.samples || []).length};
-  document.body.setAttribute("data-charts", charts.map((c) => c.id).join(" "));
-  // Where each chart and image landed (page pixels), for the browser test's screenshot checks:
-  // measured once the images are decoded and uPlot has sized its plots (it does so after a tick).
-  window.addEventListener("load", () => setTimeout(() => {
-    for (const fig of document.querySelectorAll("figure")) {
-      const r = fig.getBoundingClientRect();
-      fig.setAttribute("data-box", [r.left + window.scrollX, r.top + window.scrollY, r.width, r.height].map(Math.round).join(","));
-    }
-    document.body.setAttribute("data-report-ready", "true");
-  }, 100));
+  window.lrdCommon.markReady(charts.map((c) => c.id));
 })();

@@ -10,19 +10,13 @@ import cv2
 import numpy as np
 import pytest
 
-from cli import lrdslam
+from cli import lrdslam, page_data
 
 FRAMES = 60
 
 
 def summary_of(out):
     return json.loads((out / "summary.json").read_text())
-
-
-def page_data(html):
-    m = re.search(r'<script type="application/json" id="report-data">(.*?)</script>', html, re.S)
-    assert m, "no report data in the page"
-    return json.loads(m.group(1))
 
 
 @pytest.fixture(scope="module")
@@ -40,7 +34,9 @@ def test_the_page_holds_everything_it_shows(dense_run):
     # Nothing fetched: no external script, style, image or link.
     assert not re.search(r'<(script|img|link|iframe)[^>]+(src|href)\s*=\s*["\']?(https?:|//|file:)', html, re.I)
     assert "<link" not in html and not re.search(r"<script[^>]+src=", html)
-    assert html.count("<script") == 3  # the data, uPlot, the page's own script
+    # The data, uPlot, three.js and its orbit controls (the run has a dense map), the pages' helpers,
+    # the 3-D view, the run page's script.
+    assert html.count("<script") == 7
     assert "uPlot" in html and "lrdReport" in html
 
 
@@ -68,6 +64,23 @@ def test_the_page_data_agree_with_the_run(dense_run):
     assert np.linalg.norm(est - gt, axis=1) == pytest.approx(err, abs=3e-5)
     truth = np.loadtxt(dense_run / "seq" / "groundtruth.txt")
     assert len(t["gt_path"]["x"]) == len(truth)
+
+    # The 3-D view: the dense map's points (all of them: a short run), the sparse map's, the keyframes.
+    m = data["map3d"]
+    dense = np.frombuffer(base64.b64decode(m["dense"]["positions"]), np.float32).reshape(-1, 3)
+    assert m["dense"]["of"] == summary["dense"]["points"] and m["dense"]["count"] == len(dense) <= 150000
+    ply = (out / "dense_map.ply").read_bytes()
+    body = ply[ply.index(b"end_header\n") + len(b"end_header\n"):]
+    vertices = np.frombuffer(body, np.dtype([("p", "<f4", 3), ("rgb", "u1", 3)]))
+    stride = -(-len(vertices) // 150000)
+    assert np.array_equal(dense, vertices["p"][::stride])  # every stride-th point, at most 150,000
+    assert np.array_equal(np.frombuffer(base64.b64decode(m["dense"]["colours"]), np.uint8).reshape(-1, 3),
+                          vertices["rgb"][::stride])
+    sparse = np.frombuffer(base64.b64decode(m["sparse"]["positions"]), np.float32).reshape(-1, 3)
+    assert len(sparse) == m["sparse"]["count"] == summary["map_points"] and "colours" not in m["sparse"]
+    keyframes = np.loadtxt(out / "KeyFrameTrajectory.txt", ndmin=2)
+    assert len(m["keyframes"]["x"]) == summary["keyframes"] == len(keyframes)
+    assert m["keyframes"]["z"] == pytest.approx(keyframes[:, 3], abs=1e-5)
 
     # The maps the run drew, as they are on disk.
     files = {i["file"]: i for i in data["images"]}

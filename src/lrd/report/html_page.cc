@@ -73,25 +73,43 @@ std::string base64(const std::string& bytes) {
 
 constexpr Asset kUplot{"data/web/uPlot.iife.min.js", "scripts/fetch-web-assets.sh"};
 constexpr Asset kUplotCss{"data/web/uPlot.min.css", "scripts/fetch-web-assets.sh"};
-constexpr Asset kScript{"web/report.js", nullptr};
+constexpr Asset kThree{"data/web/three.min.js", "scripts/fetch-web-assets.sh"};
+constexpr Asset kOrbitControls{"data/web/three.OrbitControls.js", "scripts/fetch-web-assets.sh"};
+constexpr Asset kMapScript{"web/map3d.js", nullptr};
+constexpr Asset kCommonScript{"web/common.js", nullptr};  // helpers both pages use
+constexpr Asset kRunScript{"web/report.js", nullptr};
+constexpr Asset kBenchmarkScript{"web/benchmark.js", nullptr};
 constexpr Asset kStyle{"web/report.css", nullptr};
 
 void check_report_assets() {
-  for (const Asset& asset : {kUplot, kUplotCss, kScript, kStyle}) (void)read_asset(asset);
+  for (const Asset& asset : {kUplot, kUplotCss, kThree, kOrbitControls, kMapScript, kCommonScript, kRunScript,
+                             kBenchmarkScript, kStyle})
+    (void)read_asset(asset);
 }
 
 void write_html_report(const fs::path& file, const nlohmann::json& data) {
   std::string page;
   page += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   page += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
-  page += "<title>lrd-slam report: " + html_escape(data.value("run", std::string("run"))) + "</title>\n";
+  // A run's page (run_data.h) or a benchmark's (benchmark_data.h): the data say which.
+  const bool benchmark = data.value("kind", std::string()) == "benchmark";
+  page += std::string("<title>lrd-slam ") + (benchmark ? "benchmark" : "report") + ": " +
+          html_escape(data.value("run", std::string("run"))) + "</title>\n";
   page += "<style>\n" + read_asset(kUplotCss) + "\n</style>\n";
   page += "<style>\n" + read_asset(kStyle) + "\n</style>\n</head>\n<body>\n";
   page += "<noscript>This report draws its charts with JavaScript.</noscript>\n<main id=\"report\"></main>\n";
   page += "<script type=\"application/json\" id=\"report-data\">" + escape_json_for_script(data.dump()) +
           "</script>\n";
   page += "<script>\n" + read_asset(kUplot) + "\n</script>\n";
-  page += "<script>\n" + read_asset(kScript) + "\n</script>\n</body>\n</html>\n";
+  // three.js only where the page draws a 3-D map: it is most of a small page's size.
+  if (data.contains("map3d")) {
+    page += "<script>\n" + read_asset(kThree) + "\n</script>\n";
+    page += "<script>\n" + read_asset(kOrbitControls) + "\n</script>\n";
+  }
+  page += "<script>\n" + read_asset(kCommonScript) + "\n</script>\n";
+  if (data.contains("map3d")) page += "<script>\n" + read_asset(kMapScript) + "\n</script>\n";
+  page += "<script>\n" + read_asset(benchmark ? kBenchmarkScript : kRunScript) +
+          "\n</script>\n</body>\n</html>\n";
   util::write_file_bytes(file, page);
 }
 

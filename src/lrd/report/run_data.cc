@@ -3,10 +3,11 @@
 #include <cmath>
 #include <fstream>
 
-#include "lrd/eval/ate.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/report/html_page.h"
+#include "lrd/report/map_view_data.h"
 #include "lrd/report/track_times.h"
+#include "lrd/report/trajectory_data.h"
 #include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
 
@@ -15,21 +16,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-// Rounded so that the page stays small: 10 µm, 1 µs.
-double round_to(double v, double step) {
-  return std::round(v / step) * step;
-}
-
-json read_json(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw file_error(file, "cannot read (not found? give the folder a run wrote with --out)");
-  try {
-    return json::parse(in);
-  } catch (const json::exception& e) {
-    throw file_error(file, std::string("not valid JSON: ") + e.what());
-  }
-}
 
 json frame_columns(const std::vector<FrameTimes>& rows) {
   json stages = json::object();
@@ -49,45 +35,6 @@ json frame_columns(const std::vector<FrameTimes>& rows) {
       stages[stage_names()[s]].push_back(round_to(r.stage_ms[s], 1e-3));
   }
   j["stages"] = stages;
-  return j;
-}
-
-void push_position(json& xyz, const Eigen::Vector3d& p) {
-  xyz["x"].push_back(round_to(p.x(), 1e-5));
-  xyz["y"].push_back(round_to(p.y(), 1e-5));
-  xyz["z"].push_back(round_to(p.z(), 1e-5));
-}
-
-json empty_xyz() {
-  return {{"x", json::array()}, {"y", json::array()}, {"z", json::array()}};
-}
-
-// The estimate aligned onto the ground truth as the ATE aligns it (TUM's evaluate_ate.py), with
-// each associated pose's error; the whole ground-truth path beside it.
-json aligned_trajectory(const io::Trajectory& gt, const io::Trajectory& est) {
-  const eval::AteResult ate = eval::compute_ate(gt, est);
-  json j = {
-      {"frame", "ground truth (world)"}, {"t", json::array()},    {"est", empty_xyz()}, {"gt", empty_xyz()},
-      {"error", json::array()},          {"gt_path", empty_xyz()}};
-  for (std::size_t i = 0; i < ate.matches.size(); ++i) {
-    const io::StampedPose& e = est[ate.matches[i].second];
-    j["t"].push_back(round_to(e.timestamp, 1e-6));
-    push_position(j["est"], ate.alignment * e.pose.translation());
-    push_position(j["gt"], gt[ate.matches[i].first].pose.translation());
-    j["error"].push_back(round_to(ate.errors[i], 1e-5));
-  }
-  const std::size_t step = std::max<std::size_t>(1, gt.size() / 3000);  // a few thousand points at most
-  for (std::size_t i = 0; i < gt.size(); i += step) push_position(j["gt_path"], gt[i].pose.translation());
-  return j;
-}
-
-json own_frame_trajectory(const io::Trajectory& est) {
-  json j = {
-      {"frame", "the first camera's frame (no ground truth)"}, {"t", json::array()}, {"est", empty_xyz()}};
-  for (const io::StampedPose& e : est) {
-    j["t"].push_back(round_to(e.timestamp, 1e-6));
-    push_position(j["est"], e.pose.translation());
-  }
   return j;
 }
 
@@ -134,7 +81,7 @@ json inline_pictures(const fs::path& index, json list, const char* key) {
 void add_report_frames(json& data, const fs::path& dir) {
   const fs::path index = dir / "report_frames" / "frames.json";
   if (!fs::exists(index)) return;
-  const json frames = read_json(index);
+  const json frames = read_json_file(index);
   if (!frames.is_object() || !frames.contains("frames") || !frames.contains("repairs"))
     throw file_error(index, "not a list of sample frames (no \"frames\" and \"repairs\")");
   data["samples"] = inline_pictures(index, frames["frames"], "frames");
@@ -146,8 +93,18 @@ void add_report_frames(json& data, const fs::path& dir) {
 
 }  // namespace
 
+json read_json_file(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw file_error(file, "cannot read (not found?)");
+  try {
+    return json::parse(in);
+  } catch (const json::exception& e) {
+    throw file_error(file, std::string("not valid JSON: ") + e.what());
+  }
+}
+
 json collect_run_data(const RunSources& s) {
-  json summary = read_json(s.run_dir / "summary.json");
+  json summary = read_json_file(s.run_dir / "summary.json");
   if (!summary.is_object())
     throw file_error(s.run_dir / "summary.json", "not a run summary (not a JSON object)");
   json data = {{"run", fs::absolute(s.run_dir).lexically_normal().filename().string()},
@@ -158,6 +115,7 @@ json collect_run_data(const RunSources& s) {
                {"samples", json::array()},
                {"repairs", json::array()}};
   add_report_frames(data, s.run_dir);
+  if (std::optional<json> map = map_view_data(s.run_dir)) data["map3d"] = std::move(*map);
   const fs::path trajectory_file = s.run_dir / "CameraTrajectory.txt";
   const io::Trajectory est =
       fs::exists(trajectory_file) ? io::read_trajectory_tum(trajectory_file) : io::Trajectory{};

@@ -17,4 +17,7 @@ struct RunSources {
 // with one that does not parse. Without ground truth the trajectory stays in its own frame.
 [[nodiscard]] nlohmann::json collect_run_data(const RunSources& sources);
 
+// A JSON file parsed; throws lrd::Error naming it when it cannot be read or is not JSON.
+[[nodiscard]] nlohmann::json read_json_file(const std::filesystem::path& file);
+
 }  // namespace lrd::report

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <set>
 
+#include "lrd/dense/ply_io.h"
 #include "lrd/eval/ate.h"
 #include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
@@ -202,6 +203,17 @@ void SampleFrameRecorder::write(const fs::path& folder, const io::Trajectory& tr
           {"frames", list}, {"repairs", repairs}, {"yardstick", yardstick}, {"flags", flags_json(flags)}}
               .dump(1) +
           "\n");
+}
+
+}  // namespace lrd::runner
+
+namespace lrd::runner {
+
+void write_sparse_map_ply(const std::filesystem::path& file, const events::MapSnapshot& map) {
+  dense::PointCloud cloud;
+  cloud.points.reserve(map.points.size());
+  for (const events::MapPointSnapshot& p : map.points) cloud.points.push_back(p.position.cast<float>());
+  dense::write_ply(file, cloud);
 }
 
 }  // namespace lrd::runner

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "lrd/events/event_publisher.h"
+#include "lrd/events/map_snapshot.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/runner/sequence_runner.h"
 
@@ -61,5 +62,9 @@ class SampleFrameRecorder final : public events::Subscriber {
   };
   std::vector<Repair> repairs_;  // most dynamic pixels first
 };
+
+// The sparse map's points (positions only) for the report's 3-D view: `run --report` writes them
+// as report_frames/sparse_map.ply. Throws lrd::Error naming the file when it cannot be written.
+void write_sparse_map_ply(const std::filesystem::path& file, const events::MapSnapshot& map);
 
 }  // namespace lrd::runner

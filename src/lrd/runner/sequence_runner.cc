@@ -199,9 +199,11 @@ RunReport run_sequence(const RunOptions& options) {
 
   // Evaluate.
   evaluate(report, slam, o, seq, cfg, params, repairs, loaded_points);
-  if (samples)
+  if (samples) {
     samples->write(o.out / "report_frames", slam.trajectory(), seq.ground_truth(),
                    scorer ? scorer->per_frame() : std::vector<FrameFlags>{});
+    write_sparse_map_ply(o.out / "report_frames" / "sparse_map.ply", slam.map_snapshot());  // the 3-D view
+  }
   return report;
 }
 

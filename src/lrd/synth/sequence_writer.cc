@@ -6,11 +6,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <optional>
 
 #include "lrd/dense/ply_io.h"
 #include "lrd/io/trajectory.h"
@@ -70,7 +70,8 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
     SingleThreadedOpenCv() { cv::setNumThreads(1); }
     ~SingleThreadedOpenCv() { cv::setNumThreads(saved); }
   };
-  std::optional<SingleThreadedOpenCv> single_threaded_cv(std::in_place);
+  // On the heap: gcc -O1 (the sanitizer presets) warns that an optional's member may be unset.
+  auto single_threaded_cv = std::make_unique<SingleThreadedOpenCv>();
   std::vector<double> dynamic_fraction(static_cast<std::size_t>(n), 0.0);
   std::mutex progress_mutex;
   int done = 0;

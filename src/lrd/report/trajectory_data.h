@@ -1,0 +1,24 @@
+#pragma once
+// A trajectory as the report pages draw it (issue 24): positions as x/y/z columns, aligned onto the
+// ground truth as the ATE aligns it, with each pose's error. Shared by the run page and the
+// benchmark page.
+#include <cstddef>
+#include <nlohmann/json.hpp>
+
+#include "lrd/io/trajectory.h"
+
+namespace lrd::report {
+
+// Rounded so that a page stays small: 10 µm for positions, 1 µs for stamps.
+[[nodiscard]] double round_to(double value, double step);
+
+// The estimate aligned onto the ground truth (TUM's evaluate_ate.py: rigid, no scale, stamps
+// within 20 ms): {"frame", "t", "est", "gt", "error", "gt_path"}. At most `max_points` poses are
+// kept (evenly spaced; 0: all). Throws lrd::Error when fewer than 2 stamps associate.
+[[nodiscard]] nlohmann::json aligned_trajectory(const io::Trajectory& ground_truth,
+                                                const io::Trajectory& estimate, std::size_t max_points = 0);
+
+// Without ground truth: the estimate in the first camera's frame ({"frame", "t", "est"}).
+[[nodiscard]] nlohmann::json own_frame_trajectory(const io::Trajectory& estimate);
+
+}  // namespace lrd::report
