@@ -23,7 +23,7 @@ if [ ! -f "$SEQ/sequence.json" ]; then
 fi
 if [ -f models/fnet-lite.onnx ]; then MODE=(--mode full --segmenter fnet); else MODE=(--mode geometric); fi
 MODE+=(--dense)  # background repair and the dense map (dense_map.ply/.png), the occupancy map (occupancy.bt, occupancy_2d.*)
-if [ -f data/web/uPlot.iife.min.js ]; then MODE+=(--report); fi  # OUT/run/report.html
+if [ -f data/web/uPlot.iife.min.js ] && [ -f data/web/three.min.js ]; then MODE+=(--report); fi  # OUT/run/report.html
 "$BIN" run --sequence "$SEQ" --out "$OUT/run" "${MODE[@]}"
 "$BIN" eval "$SEQ/groundtruth.txt" "$OUT/run/CameraTrajectory.txt" --json "$OUT/eval.json" --plot "$OUT/plots"
 echo "Sequence: $SEQ   trajectory: $OUT/run/CameraTrajectory.txt   dense map: $OUT/run/dense_map.ply   occupancy grid: $OUT/run/occupancy_2d.png   evaluation: $OUT/eval.json   plots: $OUT/plots   report: $OUT/run/report.html"
