@@ -1,6 +1,7 @@
 #include "lrd/report/benchmark_data.h"
 
 #include <algorithm>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,33 +37,38 @@ json ordered_names(const json& results, const char* list_key, const char* run_ke
   return names;
 }
 
-// The ground truth of the sequence a run read (its summary.json names it), when there is one.
-std::optional<io::Trajectory> run_ground_truth(const fs::path& run_dir) {
+// The ground-truth file of the sequence a run read (its summary.json names it), when there is one.
+std::optional<fs::path> run_ground_truth_file(const fs::path& run_dir) {
   if (!fs::exists(run_dir / "summary.json")) return std::nullopt;
   const json summary = read_json_file(run_dir / "summary.json");
   if (!summary.is_object() || !summary.contains("sequence") || !summary["sequence"].is_string())
     return std::nullopt;
   const fs::path gt = fs::path(summary["sequence"].get<std::string>()) / "groundtruth.txt";
   if (!fs::exists(gt)) return std::nullopt;
-  return io::read_trajectory_tum(gt);
+  return gt;
 }
+
+// Each sequence's ground truth read once, though every mode's run names it.
+using GroundTruths = std::map<fs::path, io::Trajectory>;
 
 // One mode's trajectory on its preset's plot: aligned positions and errors, or a note saying why
 // there is none.
-void add_trajectory(json& plot, const std::string& mode, const fs::path& run_dir) {
+void add_trajectory(json& plot, const std::string& mode, const fs::path& run_dir, GroundTruths& truths) {
   const fs::path file = run_dir / "CameraTrajectory.txt";
   if (!fs::exists(file)) {
     plot["notes"].push_back(mode + ": no " + file.string());
     return;
   }
-  const std::optional<io::Trajectory> gt = run_ground_truth(run_dir);
-  if (!gt) {
+  const std::optional<fs::path> gt_file = run_ground_truth_file(run_dir);
+  if (!gt_file) {
     plot["notes"].push_back(mode + ": no ground truth for " + run_dir.string());
     return;
   }
+  auto gt = truths.find(*gt_file);
+  if (gt == truths.end()) gt = truths.emplace(*gt_file, io::read_trajectory_tum(*gt_file)).first;
   const io::Trajectory est = io::read_trajectory_tum(file);
   try {
-    json t = aligned_trajectory(*gt, est, kMaxPointsPerRun);
+    json t = aligned_trajectory(gt->second, est, kMaxPointsPerRun);
     if (!plot.contains("gt_path")) plot["gt_path"] = t["gt_path"];
     t.erase("gt_path");
     t.erase("gt");
@@ -95,6 +101,7 @@ json collect_benchmark_data(const fs::path& bench_dir) {
                {"presets", ordered_names(results, "presets", "preset")},
                {"modes", ordered_names(results, "modes", "mode")},
                {"trajectories", json::object()}};
+  GroundTruths truths;
   for (const json& run : results["runs"]) {
     const std::string preset = run["preset"].get<std::string>(), mode = run["mode"].get<std::string>();
     json& plot = data["trajectories"][preset];
@@ -103,7 +110,7 @@ json collect_benchmark_data(const fs::path& bench_dir) {
     const fs::path run_dir = run.contains("run_dir") && run["run_dir"].is_string()
                                  ? bench_dir / run["run_dir"].get<std::string>()
                                  : bench_dir / "runs" / preset / mode;
-    add_trajectory(plot, mode, run_dir);
+    add_trajectory(plot, mode, run_dir, truths);
   }
   return data;
 }

@@ -19,7 +19,7 @@ static_assert(std::endian::native == std::endian::little, "the page reads float3
 
 // Every stride-th point of the cloud (all when it is small enough), with its colour when it has one.
 json cloud_json(const dense::PointCloud& cloud, std::size_t max_points) {
-  const std::size_t stride = std::max<std::size_t>(1, (cloud.size() + max_points - 1) / max_points);
+  const std::size_t stride = stride_for(cloud.size(), max_points);
   const bool coloured = cloud.colours.size() == cloud.size();
   std::string positions, colours;
   std::size_t count = 0;
@@ -48,14 +48,10 @@ std::optional<json> map_view_data(const fs::path& run_dir) {
   if (fs::exists(dense_file)) j["dense"] = cloud_json(dense::read_ply(dense_file), kMaxDensePoints);
   if (fs::exists(sparse_file)) j["sparse"] = cloud_json(dense::read_ply(sparse_file), kMaxDensePoints);
   const fs::path keyframes_file = run_dir / "KeyFrameTrajectory.txt";
-  json keyframes = {{"x", json::array()}, {"y", json::array()}, {"z", json::array()}};
+  json keyframes = xyz_columns();
   if (fs::exists(keyframes_file))
-    for (const io::StampedPose& k : io::read_trajectory_tum(keyframes_file)) {
-      const Eigen::Vector3d p = k.pose.translation();
-      keyframes["x"].push_back(round_to(p.x(), 1e-5));
-      keyframes["y"].push_back(round_to(p.y(), 1e-5));
-      keyframes["z"].push_back(round_to(p.z(), 1e-5));
-    }
+    for (const io::StampedPose& k : io::read_trajectory_tum(keyframes_file))
+      push_xyz(keyframes, k.pose.translation());
   j["keyframes"] = keyframes;
   return j;
 }
