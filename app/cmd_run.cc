@@ -1,4 +1,5 @@
-// `lrdslam run`: SLAM over a TUM-layout sequence folder or a TUM-style rosbag; trajectories,
+// `lrdslam run`: SLAM over a TUM-layout sequence folder, a TUM-style rosbag or a synthetic
+// sequence rendered on the fly; trajectories,
 // per-frame timings and a summary into --out, and ATE/RPE when the input has ground truth.
 #include <fmt/format.h>
 #include <unistd.h>
@@ -17,6 +18,8 @@
 #include "lrd/report/html_page.h"
 #include "lrd/report/run_data.h"
 #include "lrd/runner/sequence_runner.h"
+#include "lrd/synth/camera_motion.h"
+#include "lrd/synth/synthetic_source.h"
 #include "lrd/util/error.h"
 
 namespace lrd::app {
@@ -62,6 +65,9 @@ struct RunCli {
   std::string load_map, save_map;
   bool localization_only = false;
   BagCli bag;
+  // --synth: frames rendered on the decoding thread, nothing written but the outputs.
+  std::string synth;
+  synth::SynthOptions synth_options;
 };
 
 void print_dense(const runner::DenseReport& d) {
@@ -145,9 +151,9 @@ void print_report(const runner::RunReport& r) {
   if (r.dense) print_dense(*r.dense);
   if (r.occupancy) print_occupancy(*r.occupancy);
   std::string written;
-  for (const char* f :
-       {"CameraTrajectory.txt", "KeyFrameTrajectory.txt", "track_times.txt", "summary.json", "dense_map.ply",
-        "dense_map.png", "occupancy.bt", "occupancy_2d.pgm", "occupancy_2d.yaml", "occupancy_2d.png"})
+  for (const char* f : {"CameraTrajectory.txt", "KeyFrameTrajectory.txt", "groundtruth.txt",
+                        "track_times.txt", "summary.json", "dense_map.ply", "dense_map.png", "occupancy.bt",
+                        "occupancy_2d.pgm", "occupancy_2d.yaml", "occupancy_2d.png"})
     if (std::filesystem::exists(r.out / f)) written += (written.empty() ? "" : ", ") + std::string(f);
   std::printf("wrote %s/{%s}\n", r.out.string().c_str(), written.c_str());
   if (r.saved_map) std::printf("wrote map %s\n", r.saved_map->string().c_str());
@@ -164,13 +170,32 @@ void write_report(const std::filesystem::path& out, const std::string& sequence)
 
 void register_run_command(CLI::App& app) {
   auto cli = std::make_shared<RunCli>();
-  CLI::App* cmd = app.add_subcommand("run", "Run SLAM on a TUM-layout RGB-D sequence folder or rosbag");
+  CLI::App* cmd = app.add_subcommand(
+      "run", "Run SLAM on a TUM-layout RGB-D sequence folder, a rosbag or a synthetic preset");
   auto* sequence = cmd->add_option("--sequence", cli->sequence,
                                    "Sequence folder (rgb.txt + depth.txt, or associations.txt)");
   auto* bag =
       cmd->add_option("--bag", cli->bag.bag,
                       "Read the frames from a rosbag in the TUM RGB-D layout instead (no roscore needed)");
   sequence->excludes(bag);
+  auto* synth =
+      cmd->add_option("--synth", cli->synth,
+                      "Render a synthetic preset's frames on the fly instead (`lrdslam synth --list`): no "
+                      "sequence on disk; OUT/groundtruth.txt gets its ground truth")
+          ->excludes(sequence)
+          ->excludes(bag);
+  cmd->add_option("--seed", cli->synth_options.seed, "With --synth: the sequence's seed (as `synth --seed`)")
+      ->needs(synth)
+      ->capture_default_str();
+  cmd->add_option("--session", cli->synth_options.session,
+                  "With --synth: the map-file session (as `synth --session`)")
+      ->needs(synth)
+      ->check(CLI::Range(1, synth::CameraMotion::kMaxSession))
+      ->capture_default_str();
+  cmd->add_option("--frames", cli->synth_options.frames,
+                  "With --synth: frames to render (default: the preset's length; a prefix of it)")
+      ->needs(synth)
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--rgb-topic", cli->bag.rgb_topic, "With --bag: colour images (sensor_msgs/Image)")
       ->capture_default_str();
   cmd->add_option("--depth-topic", cli->bag.depth_topic,
@@ -233,11 +258,16 @@ void register_run_command(CLI::App& app) {
   cmd->add_flag("--report", cli->report,
                 "Write OUT/report.html at the end: one self-contained page (as `lrdslam report OUT`)");
   cmd->callback([cli] {
-    if (cli->sequence.empty() == cli->bag.bag.empty())
-      throw Error("run: give the frames as --sequence FOLDER or --bag FILE.bag");
+    const int inputs = !cli->sequence.empty() + !cli->bag.bag.empty() + !cli->synth.empty();
+    if (inputs != 1)
+      throw Error("run: give the frames as --sequence FOLDER, --bag FILE.bag or --synth PRESET");
     runner::RunOptions o;
     o.sequence = cli->sequence;
     if (!cli->bag.bag.empty()) o.source = open_bag(cli->bag);
+    if (!cli->synth.empty()) {
+      cli->synth_options.preset = cli->synth;
+      o.source = std::make_shared<const synth::SyntheticSource>(cli->synth_options);
+    }
     if (!cli->settings.empty()) o.settings = cli->settings;
     if (!cli->preset.empty()) o.preset = cli->preset;
     if (!cli->config.empty()) o.config = cli->config;

@@ -76,8 +76,8 @@ int main(int argc, char** argv) {
   try {
     for (const std::string& preset : presets) {
       const fs::path dir = lrd::bench::ensure_sequence(cache, preset, frames);
-      const double y = lrd::bench::sequence_yardstick_ms(dir);
-      std::vector<double> without, with, with_occupancy;
+      const double y_apart = lrd::bench::sequence_yardstick_ms(dir);
+      std::vector<double> without, with, with_occupancy, run_y;
       lrd::runner::RunReport dense_report, occupancy_report;
       const auto run = [&](const std::string& mode, bool dense, bool occupancy, const std::string& name) {
         lrd::runner::RunOptions o;
@@ -89,7 +89,10 @@ int main(int argc, char** argv) {
         o.dense = dense;
         o.occupancy = occupancy;
         o.realtime = realtime;
-        return lrd::runner::run_sequence(o);
+        o.yardstick = true;
+        lrd::runner::RunReport r = lrd::runner::run_sequence(o);
+        run_y.push_back(lrd::bench::run_yardstick_ms(r, y_apart));
+        return r;
       };
       for (int k = 0; k < repeat; ++k) {
         without.push_back(run("full", false, false, "plain").total.median_ms);
@@ -100,6 +103,7 @@ int main(int argc, char** argv) {
       }
       const double a = lrd::bench::median_of(without), b = lrd::bench::median_of(with),
                    c = lrd::bench::median_of(with_occupancy);
+      const double y = lrd::bench::median_of(run_y);  // Y of the runs above (interleaved)
       const auto& d = *dense_report.dense;
       const std::string map = d.map ? fmt::format("{} | {:.2f} % | {:.1f} %", d.map->map_points,
                                                   100 * d.map->ghost_ratio(), 100 * d.map->completeness())

@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
               "ATE cm", "RPE cm/s deg/s", "extract ms", "track ms", "wait ms", "total ms", "total/Y", "Y ms");
   for (const std::string& preset : presets) {
     const fs::path dir = ensure_sequence(cache, preset, frames);
-    const double y = lrd::bench::sequence_yardstick_ms(dir);
+    const double y_apart = lrd::bench::sequence_yardstick_ms(dir);
     lrd::runner::RunOptions o;
     o.sequence = dir;
     o.out = fs::path("out/bench/runs") / preset;
@@ -64,7 +64,9 @@ int main(int argc, char** argv) {
     o.mode = mode;
     o.no_loop_closing = !loop_closing;
     o.preload = true;
+    o.yardstick = true;
     const lrd::runner::RunReport r = lrd::runner::run_sequence(o);
+    const double y = lrd::bench::run_yardstick_ms(r, y_apart);
     const std::string rpe = fmt::format("{:.2f} {:.2f}", 100 * r.rpe_trans_rmse, r.rpe_rot_rmse);
     std::printf("%-19s %6zu %5zu %4zu %9.2f %16s %10.1f %9.1f %8.1f %12.1f %9.2f %7.1f\n", preset.c_str(),
                 r.frames, r.lost, r.map.keyframes, 100 * r.ate_rmse, rpe.c_str(), r.extraction.median_ms,

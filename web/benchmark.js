@@ -78,12 +78,12 @@
 
   // Table 10: mean and median time per frame, in ms and as multiples of Y.
   function timeSection() {
-    const s = section("time", "Time per frame (Table 10)", "ms, and in brackets as multiples of Y measured in the same run.");
+    const s = section("time", "Time per frame (Table 10)", "ms, and in brackets as multiples of Y, measured in each run beside its own extraction (the Y column: each mode's, in order).");
     const head = ["sequence", "Y (ms)"];
     for (const m of modes) head.push(m + " mean", "median");
     const rows = presets.map((p) => {
-      const any = modes.map((m) => run(p, m)).find((r) => r);
-      return [p, any ? num(any.y_ms, 2) : "–"].concat(...modes.map((m) => {
+      const ys = modes.map((m) => (run(p, m) ? num(run(p, m).y_ms, 2) : "–")).join(" / ");
+      return [p, ys].concat(...modes.map((m) => {
         const r = run(p, m);
         return r ? [num(r.time_ms.mean, 1) + " (" + num(r.time_y.mean, 2) + " Y)", num(r.time_ms.median, 1) + " (" + num(r.time_y.median, 2) + " Y)"]
                  : ["–", "–"];

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <opencv2/features2d.hpp>
 #include <string>
 
 #include "lrd/map/map_file.h"
@@ -39,7 +40,8 @@ struct System::Impl {
   double last_timestamp = -std::numeric_limits<double>::infinity();
   bool shut_down = false;
   std::size_t loaded_keyframes = 0, loaded_map_points = 0;  // load_map()
-  std::string failure;  // the error track_rgbd threw that stopped the system (empty: none)
+  std::string failure;                   // the error track_rgbd threw that stopped the system (empty: none)
+  cv::Ptr<cv::Feature2D> yardstick_orb;  // SystemOptions::yardstick: OpenCV's ORB, Y's definition
 };
 
 }  // namespace lrd

@@ -20,7 +20,7 @@ def walking(tmp_path_factory):
 @pytest.fixture(scope="module")
 def pushed(tmp_path_factory):
     d = tmp_path_factory.mktemp("seq") / "walking_pushed"
-    lrdslam("synth", "--preset", "walking_pushed", "--frames", 240, "--out", d)
+    lrdslam("synth", "--preset", "walking_pushed", "--frames", 180, "--out", d)
     return d
 
 

@@ -9,6 +9,7 @@
 
 #include "lrd/io/trajectory.h"
 #include "lrd/io/tum_sequence.h"
+#include "lrd/synth/camera_motion.h"
 #include "lrd/synth/sequence_writer.h"
 #include "lrd/synth/synthetic_sequence.h"
 #include "lrd/util/error.h"
@@ -77,6 +78,38 @@ TEST(SynthPresets, UnknownPresetNamesTheValidOnes) {
     EXPECT_NE(std::string(e.what()).find("walking_fast"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("walking_halfsphere"), std::string::npos);
   }
+}
+
+TEST(SynthPresets, TheLongPresetToursTheRoomForTwelveMinutesAndRevisits) {
+  // Issue 23's long preset: >= 20,000 frames, laps with revisits, people walking, a hand-held pace.
+  const SyntheticSequence seq(options("walking_long", -1));
+  EXPECT_GE(seq.size(), 20000);
+  EXPECT_GT(seq.actor_descriptions().size(), 1u);
+  const int lap = static_cast<int>(lrd::synth::CameraMotion::kTourLap * seq.camera().fps);
+  double length = 0.0;
+  Eigen::Vector3d previous = seq.pose(0).translation();
+  for (int i = 30; i < seq.size(); i += 30) {  // once a second
+    const Eigen::Isometry3d T = seq.pose(i);
+    length += (T.translation() - previous).norm();
+    previous = T.translation();
+    // Inside the walkers' rectangle and clear of the furniture, at a standing person's height.
+    EXPECT_GT(T.translation().x(), 1.7);
+    EXPECT_LT(T.translation().x(), 3.7);
+    EXPECT_NEAR(T.translation().z(), 1.35, 0.17);
+  }
+  const double seconds = seq.size() / seq.camera().fps;
+  EXPECT_GT(length / seconds, 0.12);  // m/s, TUM fr3 walking: 0.1-0.4
+  EXPECT_LT(length / seconds, 0.35);
+  // A lap later the camera is back within 0.35 m of where it was, looking the same way:
+  // a revisit (a loop to close) at every lap.
+  for (int i = 0; i + lap < seq.size(); i += 7 * lap) {
+    const Eigen::Isometry3d a = seq.pose(i), b = seq.pose(i + lap);
+    EXPECT_LT((a.translation() - b.translation()).norm(), 0.35) << "frame " << i;
+    EXPECT_GT(a.rotation().col(2).dot(b.rotation().col(2)), 0.97) << "frame " << i;
+  }
+  // A prefix is the same path (run --synth walking_long --frames N).
+  const SyntheticSequence prefix(options("walking_long", 900));
+  EXPECT_TRUE(prefix.pose(899).isApprox(seq.pose(899), 1e-12));
 }
 
 TEST(SynthPresets, WalkingPeopleOftenCoverATwentyToFiftyPercent) {

@@ -57,6 +57,27 @@ TEST(System, DeterministicModeGivesBitIdenticalTrajectories) {
   EXPECT_LT(ate.stats.rmse, 0.01);
 }
 
+TEST(System, TheYardstickIsTimedOnEveryFrameAndChangesNoPose) {
+  // SystemOptions::yardstick (issue 23): OpenCV's ORB on each frame in the tracking thread, for
+  // the benchmarks' interleaved Y; the trajectory stays the same bits.
+  const auto& seq = static_sequence();
+  lrd::SystemOptions options;
+  options.deterministic = true;
+  options.yardstick = true;
+  lrd::System slam(config_for(seq.camera), options);
+  for (const auto& f : seq.frames) {
+    const lrd::TrackResult r = slam.track_rgbd(f.rgb, f.depth, f.timestamp);
+    EXPECT_GT(r.timing.yardstick, 0.0);
+    EXPECT_GE(r.timing.extraction, 0.0);
+  }
+  slam.shutdown();
+  const auto with = slam.trajectory();
+  const auto without = run(seq, true);
+  ASSERT_EQ(with.size(), without.size());
+  for (std::size_t i = 0; i < with.size(); ++i)
+    ASSERT_TRUE((with[i].pose.matrix().array() == without[i].pose.matrix().array()).all()) << "frame " << i;
+}
+
 TEST(System, FreesCulledMapPointsWhileItRuns) {
   // Points that fail local mapping's culling are removed within a few keyframes; the map frees
   // them once tracking and mapping have let go (map/reclamation.h), not at the end of the run.

@@ -24,6 +24,7 @@ struct FrameTiming {
   double tracking = 0.0;      // pose estimation, local map, keyframe decision
   double waiting = 0.0;       // waiting for local mapping to release the map
   double mapping = 0.0;       // lock-step local mapping (deterministic mode only)
+  double yardstick = 0.0;     // OpenCV ORB on this frame (SystemOptions::yardstick; not in total())
   [[nodiscard]] double total() const {
     return extraction + mask_wait + geometry + tracking + waiting + mapping;
   }

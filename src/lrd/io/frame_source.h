@@ -46,6 +46,9 @@ class FrameSource {
   [[nodiscard]] virtual std::string ground_truth_origin() const = 0;
   // The camera the source carries, if any (a folder carries none: see runner::resolve_config).
   [[nodiscard]] virtual std::optional<SourceCamera> camera() const { return std::nullopt; }
+  // True for frames of our synthetic benchmark rendered on the fly (no folder): a semantic run
+  // then gets the network trained on its renders, as a synthetic folder does (sequence.json).
+  [[nodiscard]] virtual bool synthetic_benchmark() const { return false; }
 };
 
 }  // namespace lrd::io

@@ -60,14 +60,19 @@ RgbdFrame load_rgbd_frame(const FrameEntry& entry, std::size_t index, double dep
                                            " does not match rgb image size " + size_str(frame.rgb) + " (" +
                                            entry.rgb_path.string() + ")");
   }
+  frame.depth = depth_in_metres(raw, depth_factor);
+  return frame;
+}
+
+cv::Mat depth_in_metres(const cv::Mat& raw, double depth_factor) {
   // Divide in double so that e.g. 5000 / 5000 is exactly 1 m (convertTo scales in float).
-  frame.depth.create(raw.size(), CV_32FC1);
+  cv::Mat depth(raw.size(), CV_32FC1);
   for (int r = 0; r < raw.rows; ++r) {
     const auto* src = raw.ptr<std::uint16_t>(r);
-    auto* dst = frame.depth.ptr<float>(r);
+    auto* dst = depth.ptr<float>(r);
     for (int c = 0; c < raw.cols; ++c) dst[c] = static_cast<float>(src[c] / depth_factor);
   }
-  return frame;
+  return depth;
 }
 
 }  // namespace lrd::io

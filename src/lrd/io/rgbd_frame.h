@@ -27,4 +27,8 @@ struct RgbdFrame {
 // single channel ("expected 16-bit depth PNG, got 8-bit") and rgb/depth size mismatch.
 [[nodiscard]] RgbdFrame load_rgbd_frame(const FrameEntry& entry, std::size_t index, double depth_factor);
 
+// A 16-bit depth image (CV_16UC1, value per metre depth_factor > 0) as CV_32FC1 metres, 0 kept as
+// no measurement; every source converts alike, so a rendered frame equals its PNG read back.
+[[nodiscard]] cv::Mat depth_in_metres(const cv::Mat& raw, double depth_factor);
+
 }  // namespace lrd::io

@@ -39,6 +39,8 @@ json frame_columns(const std::vector<FrameTimes>& rows) {
 }
 
 std::optional<fs::path> ground_truth_file(const RunSources& s, const json& summary) {
+  // A run over a bag or a rendered sequence keeps its ground truth in the run folder.
+  if (!s.sequence && fs::exists(s.run_dir / "groundtruth.txt")) return s.run_dir / "groundtruth.txt";
   std::optional<fs::path> sequence = s.sequence;
   if (!sequence && summary.contains("sequence") && summary["sequence"].is_string())
     sequence = fs::path(summary["sequence"].get<std::string>());

@@ -9,8 +9,10 @@
 namespace lrd::report {
 
 struct RunSources {
-  std::filesystem::path run_dir;                  // a `lrdslam run --out` folder
-  std::optional<std::filesystem::path> sequence;  // ground truth: SEQUENCE/groundtruth.txt
+  std::filesystem::path run_dir;  // a `lrdslam run --out` folder
+  // Ground truth: SEQUENCE/groundtruth.txt; without it RUN_DIR/groundtruth.txt (a bag's or a
+  // rendered sequence's run), else the folder summary.json names.
+  std::optional<std::filesystem::path> sequence;
 };
 
 // Throws lrd::Error naming the file for a run folder without summary.json or track_times.txt, or

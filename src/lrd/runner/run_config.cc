@@ -123,7 +123,7 @@ SystemParams configure_system(const RunOptions& o, const config::Config& cfg) {
   std::optional<std::string> name = o.segmenter;
   if (!name && dynamic::uses_segmentation(p.dynamic.mode) &&
       p.segmentation.backend == segmentation::Backend::None)
-    name = default_segmenter(data_folder(o));
+    name = o.source && o.source->synthetic_benchmark() ? "fnet" : default_segmenter(data_folder(o));
   if (name)
     p.segmentation =
         segmenter_preset(*name, data_folder(o), p.segmentation, o.segmenter_model.value_or(fs::path{}));

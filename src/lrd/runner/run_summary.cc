@@ -63,7 +63,7 @@ void write_track_times(const fs::path& file, const std::vector<FrameLog>& log) {
 
 void summarize_log(RunReport& report) {
   report.frames = report.log.size();
-  std::vector<double> ext, seg, mwait, geo, trk, wai, map, tot, relocalizing;
+  std::vector<double> ext, seg, mwait, geo, trk, wai, map, tot, relocalizing, yardstick;
   double age_sum = 0.0;
   for (const FrameLog& f : report.log) {
     seg.push_back(1e3 * f.timing.segmentation);
@@ -83,7 +83,9 @@ void summarize_log(RunReport& report) {
     wai.push_back(1e3 * f.timing.waiting);
     map.push_back(1e3 * f.timing.mapping);
     tot.push_back(1e3 * f.timing.total());
+    if (f.timing.yardstick > 0.0) yardstick.push_back(1e3 * f.timing.yardstick);
   }
+  report.yardstick = summarize(yardstick);
   report.extraction = summarize(ext);
   report.segmentation_time = summarize(seg);
   report.mask_wait = summarize(mwait);

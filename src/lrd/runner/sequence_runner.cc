@@ -82,6 +82,9 @@ void evaluate(RunReport& report, const System& slam, const RunOptions& o, const 
       trajectory.size() >= 2 ? seq.ground_truth() : std::nullopt;
   if (ground_truth) {
     const io::Trajectory& gt = *ground_truth;
+    // A source without a folder (a bag's /tf, a rendered sequence) leaves its ground truth beside
+    // the trajectory, so the run folder can be evaluated and reported on its own.
+    if (!seq.folder()) io::write_trajectory_tum(o.out / "groundtruth.txt", gt);
     try {
       const eval::AteResult ate = eval::compute_ate(gt, trajectory);
       const eval::RpeResult rpe = eval::compute_rpe(gt, trajectory, 1.0);
@@ -128,7 +131,9 @@ RunReport run_sequence(const RunOptions& options) {
       o.source ? o.source : std::make_shared<const io::TumSequence>(io::TumSequence::open(o.sequence));
   const io::FrameSource& seq = *source;
   if (seq.size() == 0) throw file_error(seq.path(), "the sequence has no frames");
-  report.source = fs::absolute(seq.path()).lexically_normal();
+  // A rendered sequence's "path" names the preset and its options, not a file.
+  report.source =
+      seq.synthetic_benchmark() && !seq.folder() ? seq.path() : fs::absolute(seq.path()).lexically_normal();
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (ec) throw file_error(o.out.string(), "cannot create the output folder: " + ec.message());
@@ -146,6 +151,7 @@ RunReport run_sequence(const RunOptions& options) {
   SystemOptions sopts;
   sopts.deterministic = o.deterministic;
   sopts.localization_only = o.localization_only;
+  sopts.yardstick = o.yardstick;
   // Declared before the system, so they outlive its threads (also on errors).
   std::shared_ptr<RepairRecorder> repairs;
   auto recorder = std::make_shared<RunRecorder>(seq, frames.size(), o.progress, o.save_masks);

@@ -67,6 +67,9 @@ struct RunOptions {
   std::optional<std::filesystem::path> save_map;
   int flag_eval_stride = 5;  // with ground-truth masks: judge the dynamic flags on every n-th frame
   bool progress = true;      // progress bar on stderr
+  // Benchmarks: Y measured in the tracking thread beside each frame's extraction
+  // (SystemOptions::yardstick); RunReport::yardstick.
+  bool yardstick = false;
   // Set (e.g. by a SIGINT handler) to stop reading frames: the run finishes the queued work and
   // writes every output from the frames done, with `interrupted` in the report.
   const std::atomic<bool>* interrupt = nullptr;
@@ -181,6 +184,7 @@ struct RunReport {
   std::string segmentation;  // backend and schedule
   StageSummary extraction, segmentation_time, mask_wait, geometry, tracking, waiting, mapping,
       total;                   // per frame, without decoding
+  StageSummary yardstick;      // RunOptions::yardstick: OpenCV ORB per frame (median: the interleaved Y)
   double mean_mask_age = 0.0;  // frames, over frames with a mask
   std::size_t frames_without_mask = 0;
   std::optional<FlagScore> flags;  // when the sequence has ground-truth masks

@@ -63,6 +63,10 @@ const std::vector<PresetSpec>& preset_specs() {
        "two people walk around the room while the camera circles it twice"},
       {"walking_pushed", 900, MotionKind::kXyz, Cast::kPushAndCarry,
        "a person pushes a chair, another carries a box; camera translates"},
+      {"walking_long", 21600, MotionKind::kTour, Cast::kTourWalkers,
+       "the long preset (12 min): three people walk around the room, one against the others, while the "
+       "camera tours it, 36 laps whose radius and height drift (revisits, loops); bench_scale's sequence",
+       true},
   };
   return specs;
 }
@@ -126,6 +130,13 @@ SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex
     case Cast::kLoopWalkers:
       walker(room_loop, 0.0f, CarriedProp::kNone, 0, 0.9f);
       walker(room_loop, 0.5f, CarriedProp::kNone, 1, 0.9f);
+      break;
+    case Cast::kTourWalkers:
+      // Three people round the room, one against the others' direction: the touring camera
+      // meets people coming towards it and crossing its view, lap after lap.
+      walker(room_loop, 0.0f, CarriedProp::kNone, 0, 0.9f);
+      walker({room_loop.rbegin(), room_loop.rend()}, 0.3f, CarriedProp::kNone, 1, 0.8f);
+      walker(room_loop, 0.6f, CarriedProp::kNone, 2, 1.0f);
       break;
   }
   return script;

@@ -21,10 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string stamp_name(double t) {
-  return fmt::format("{:.6f}.png", t);
-}
-
 void write_png(const fs::path& path, const cv::Mat& img) {
   // OpenCV's default PNG settings (SUB filter, fastest zlib level, RLE) encode 2-4x faster than
   // any explicit compression level: noisy renders barely compress further anyway.
@@ -35,10 +31,14 @@ void write_list(const fs::path& file, const std::string& title, const std::strin
                 const std::vector<double>& stamps) {
   auto out = fmt::output_file(file.string());
   out.print("# {}\n# file: 'lrdslam synth'\n# timestamp filename\n", title);
-  for (double t : stamps) out.print("{:.6f} {}/{}\n", t, folder, stamp_name(t));
+  for (double t : stamps) out.print("{:.6f} {}/{}\n", t, folder, frame_file_name(t));
 }
 
 }  // namespace
+
+std::string frame_file_name(double stamp) {
+  return fmt::format("{:.6f}.png", stamp);
+}
 
 void write_orbslam_settings(const fs::path& file, const camera::PinholeCamera& c) {
   auto out = fmt::output_file(file.string());
@@ -77,7 +77,8 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
   int done = 0;
   tbb::parallel_for(0, n, [&](int i) {
     const SynthFrame f = seq.render(i);
-    const std::string rgb_name = stamp_name(f.timestamp), depth_name = stamp_name(f.depth_timestamp);
+    const std::string rgb_name = frame_file_name(f.timestamp),
+                      depth_name = frame_file_name(f.depth_timestamp);
     write_png(out / "rgb" / rgb_name, f.rgb);
     write_png(out / "depth" / depth_name, f.depth);
     write_png(out / "mask" / rgb_name, f.mask);
@@ -106,7 +107,7 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
     for (int i = 0; i < n; ++i) {
       const double tr = rgb_stamps[static_cast<std::size_t>(i)],
                    td = depth_stamps[static_cast<std::size_t>(i)];
-      assoc.print("{:.6f} rgb/{} {:.6f} depth/{}\n", tr, stamp_name(tr), td, stamp_name(td));
+      assoc.print("{:.6f} rgb/{} {:.6f} depth/{}\n", tr, frame_file_name(tr), td, frame_file_name(td));
     }
   }
   io::write_trajectory_tum(out / "groundtruth.txt", gt);

@@ -5,6 +5,7 @@
 //   mask/ (0 static, 1 person, 2 moved object)  static/rgb/ static/depth/  sequence.json
 #include <filesystem>
 #include <functional>
+#include <string>
 
 #include "lrd/synth/synthetic_sequence.h"
 
@@ -23,6 +24,9 @@ struct SynthSummary {
 // `progress(done, total)` is called from the writing threads, serialised.
 SynthSummary write_sequence(const SyntheticSequence& sequence, const std::filesystem::path& out,
                             const std::function<void(int, int)>& progress = {});
+
+// A frame's image file name in rgb/, depth/, mask/ and static/: its timestamp, "1700000000.033333.png".
+[[nodiscard]] std::string frame_file_name(double stamp);
 
 // ORB-SLAM2-format settings for the synthetic camera (fr3 intrinsics, no distortion).
 void write_orbslam_settings(const std::filesystem::path& file, const camera::PinholeCamera& camera);

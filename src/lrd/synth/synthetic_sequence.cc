@@ -71,7 +71,7 @@ Eigen::Isometry3d SyntheticSequence::pose(int i) const {
   return camera_pose(timestamp(i) - kFirstTimestamp);
 }
 
-SynthFrame SyntheticSequence::render(int i) const {
+SynthFrame SyntheticSequence::render(int i, Views views) const {
   if (i < 0 || i >= frames_) throw Error("synth: frame index out of range");
   SynthFrame f;
   f.index = i;
@@ -113,9 +113,11 @@ SynthFrame SyntheticSequence::render(int i) const {
     acc_static.convertTo(static_color, CV_8UC3, 1.0 / options_.blur_subframes);
   }
   f.rgb = sensor_->rgb_image(color, i);
-  f.static_rgb = sensor_->rgb_image(static_color, i);
   f.depth = sensor_->depth_image(full_pass, i);
-  f.static_depth = sensor_->depth_image(static_pass, i);
+  if (views == Views::All) {
+    f.static_rgb = sensor_->rgb_image(static_color, i);
+    f.static_depth = sensor_->depth_image(static_pass, i);
+  }
   f.mask = full_pass.label;
   f.voc_class = full_pass.voc_class;
   if (options_.blanked(i)) {

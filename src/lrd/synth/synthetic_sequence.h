@@ -68,8 +68,11 @@ class SyntheticSequence {
   [[nodiscard]] double timestamp(int i) const;
   [[nodiscard]] double depth_timestamp(int i) const;
   [[nodiscard]] Eigen::Isometry3d pose(int i) const;
-  // Renders frame i (thread-safe).
-  [[nodiscard]] SynthFrame render(int i) const;
+  // What render() produces: everything the sequence folder holds, or only what a camera gives
+  // (rgb, depth, mask; no static view), for a run that streams frames (SyntheticSource).
+  enum class Views { All, CameraOnly };
+  // Renders frame i (thread-safe). rgb, depth and mask do not depend on `views`.
+  [[nodiscard]] SynthFrame render(int i, Views views = Views::All) const;
   // Samples of the static room's surfaces in world coordinates (scene.ply), about one per 4 cm^2.
   [[nodiscard]] dense::PointCloud scene_samples() const;
 

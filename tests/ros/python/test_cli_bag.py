@@ -76,7 +76,7 @@ def test_bad_bag_options_stop_with_one_line_naming_the_bag_and_topic(sequence, t
 def test_frames_come_from_a_folder_or_a_bag_not_both(sequence, tmp_path):
     folder, bag = sequence
     r = lrdslam("run", "--out", tmp_path, check=False)
-    assert r.returncode != 0 and "give the frames as --sequence FOLDER or --bag FILE.bag" in r.stderr
+    assert r.returncode != 0 and "give the frames as --sequence FOLDER, --bag FILE.bag or --synth PRESET" in r.stderr
     r = lrdslam("run", "--sequence", folder, "--bag", bag, "--out", tmp_path, check=False)
     assert r.returncode != 0 and "excludes" in r.stderr
 
