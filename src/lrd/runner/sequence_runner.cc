@@ -132,8 +132,7 @@ RunReport run_sequence(const RunOptions& options) {
   const io::FrameSource& seq = *source;
   if (seq.size() == 0) throw file_error(seq.path(), "the sequence has no frames");
   // A rendered sequence's "path" names the preset and its options, not a file.
-  report.source =
-      seq.synthetic_benchmark() && !seq.folder() ? seq.path() : fs::absolute(seq.path()).lexically_normal();
+  report.source = seq.synthetic_benchmark() ? seq.path() : fs::absolute(seq.path()).lexically_normal();
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (ec) throw file_error(o.out.string(), "cannot create the output folder: " + ec.message());

@@ -94,11 +94,9 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
 
   single_threaded_cv.reset();
   std::vector<double> rgb_stamps, depth_stamps;
-  io::Trajectory gt;
   for (int i = 0; i < n; ++i) {
     rgb_stamps.push_back(seq.timestamp(i));
     depth_stamps.push_back(seq.depth_timestamp(i));
-    gt.push_back({seq.timestamp(i), seq.pose(i)});
   }
   write_list(out / "rgb.txt", "color images", "rgb", rgb_stamps);
   write_list(out / "depth.txt", "depth maps", "depth", depth_stamps);
@@ -110,7 +108,7 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
       assoc.print("{:.6f} rgb/{} {:.6f} depth/{}\n", tr, frame_file_name(tr), td, frame_file_name(td));
     }
   }
-  io::write_trajectory_tum(out / "groundtruth.txt", gt);
+  io::write_trajectory_tum(out / "groundtruth.txt", seq.ground_truth());
   write_orbslam_settings(out / "settings.yaml", seq.camera());
   dense::write_ply(out / "scene.ply", seq.scene_samples());  // the static surfaces, to judge dense maps
 

@@ -71,6 +71,13 @@ Eigen::Isometry3d SyntheticSequence::pose(int i) const {
   return camera_pose(timestamp(i) - kFirstTimestamp);
 }
 
+io::Trajectory SyntheticSequence::ground_truth() const {
+  io::Trajectory gt;
+  gt.reserve(static_cast<std::size_t>(frames_));
+  for (int i = 0; i < frames_; ++i) gt.push_back({timestamp(i), pose(i)});
+  return gt;
+}
+
 SynthFrame SyntheticSequence::render(int i, Views views) const {
   if (i < 0 || i >= frames_) throw Error("synth: frame index out of range");
   SynthFrame f;

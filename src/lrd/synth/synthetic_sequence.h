@@ -9,6 +9,7 @@
 
 #include "lrd/camera/pinhole_camera.h"
 #include "lrd/dense/point_cloud.h"
+#include "lrd/io/trajectory.h"
 #include "lrd/synth/presets.h"
 #include "lrd/synth/rasterizer.h"
 #include "lrd/synth/sensor_model.h"
@@ -68,6 +69,8 @@ class SyntheticSequence {
   [[nodiscard]] double timestamp(int i) const;
   [[nodiscard]] double depth_timestamp(int i) const;
   [[nodiscard]] Eigen::Isometry3d pose(int i) const;
+  // Every frame's pose at its colour timestamp: groundtruth.txt, and a streamed run's ground truth.
+  [[nodiscard]] io::Trajectory ground_truth() const;
   // What render() produces: everything the sequence folder holds, or only what a camera gives
   // (rgb, depth, mask; no static view), for a run that streams frames (SyntheticSource).
   enum class Views { All, CameraOnly };

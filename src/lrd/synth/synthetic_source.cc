@@ -9,12 +9,12 @@
 namespace lrd::synth {
 
 SyntheticSource::SyntheticSource(const SynthOptions& options)
-    : sequence_(std::make_unique<const SyntheticSequence>(options)) {
+    : sequence_(std::make_unique<const SyntheticSequence>(options)),
+      ground_truth_(sequence_->ground_truth()) {
   const SyntheticSequence& seq = *sequence_;
   name_ = fmt::format("synth:{}?seed={}&session={}&frames={}", seq.spec().name, options.seed, options.session,
                       seq.size());
   entries_.reserve(static_cast<std::size_t>(seq.size()));
-  ground_truth_.reserve(static_cast<std::size_t>(seq.size()));
   for (int i = 0; i < seq.size(); ++i) {
     // Named as the folder `lrdslam synth` writes names them: saved masks and repaired keyframes
     // of a streamed run match the written sequence's files.
@@ -24,7 +24,6 @@ SyntheticSource::SyntheticSource(const SynthOptions& options)
     e.rgb_path = std::filesystem::path("rgb") / frame_file_name(e.timestamp);
     e.depth_path = std::filesystem::path("depth") / frame_file_name(e.depth_timestamp);
     entries_.push_back(std::move(e));
-    ground_truth_.push_back({seq.timestamp(i), seq.pose(i)});
   }
 }
 
