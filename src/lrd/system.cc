@@ -190,6 +190,10 @@ dense::RepairTotals System::repair_totals() const {
   return impl_->pipe->dense ? impl_->pipe->dense->repair_totals() : dense::RepairTotals{};
 }
 
+dense::DenseStorage System::dense_storage() const {
+  return impl_->pipe->dense ? impl_->pipe->dense->storage() : dense::DenseStorage{};
+}
+
 void System::set_repair_callback(dense::DenseMapper::RepairCallback callback) {
   impl_->repair_callback = std::move(callback);
   if (impl_->pipe->dense) impl_->pipe->dense->set_repair_callback(impl_->repair_callback);
@@ -312,6 +316,8 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
   result.timing.tracking = seconds(t1, t2) - outcome.wait_seconds - outcome.geometry.seconds;
   result.timing.mapping = seconds(t2, t3);
   result.inliers = outcome.inliers;
+  result.local_keyframes = outcome.local_keyframes;
+  result.local_points = outcome.local_points;
   result.dynamic.geometric_keypoints = outcome.geometry.keypoints_removed;
   result.dynamic.geometric_seeds = outcome.geometry.seeds;
   result.dynamic.keypoints = static_cast<int>(frame.size());

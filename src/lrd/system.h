@@ -50,6 +50,8 @@ struct TrackResult {
   FrameTiming timing;
   int inliers = 0;  // map points matched and kept by the pose optimization
   DynamicInfo dynamic;
+  // The local map it was tracked against (keyframes, map points); 0 when not tracked.
+  std::size_t local_keyframes = 0, local_points = 0;
 };
 
 struct MapStats {
@@ -123,6 +125,8 @@ class System {
   [[nodiscard]] map::MapMemory map_memory() const;
   // Each loop closed so far (frame, keyframes, inliers, correction).
   [[nodiscard]] std::vector<loop::LoopEvent> loops() const;
+  // Each global bundle adjustment run after a loop so far (size and latency).
+  [[nodiscard]] std::vector<loop::GlobalBaRun> global_ba_runs() const;
   [[nodiscard]] bool loop_closing_enabled() const;
   // Place recognition (relocalization; loop closing): the vocabulary file in use, or empty.
   [[nodiscard]] std::filesystem::path vocabulary_file() const;
@@ -138,6 +142,8 @@ class System {
   // shutdown() for the complete map.
   [[nodiscard]] dense::PointCloud dense_map() const;
   [[nodiscard]] dense::RepairTotals repair_totals() const;
+  // What the dense stage keeps per keyframe (dense.max_memory_mb caps it).
+  [[nodiscard]] dense::DenseStorage dense_storage() const;
   // Called in the dense thread after each keyframe's background repair; set before tracking.
   void set_repair_callback(dense::DenseMapper::RepairCallback callback);
   // --- occupancy (issue 25): with the dense stage unless occupancy.enabled is false

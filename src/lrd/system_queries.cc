@@ -87,6 +87,11 @@ std::vector<loop::LoopEvent> System::loops() const {
   return impl_->pipe->loop_closer ? impl_->pipe->loop_closer->stats().loops : std::vector<loop::LoopEvent>{};
 }
 
+std::vector<loop::GlobalBaRun> System::global_ba_runs() const {
+  return impl_->pipe->loop_closer ? impl_->pipe->loop_closer->stats().global_ba_runs
+                                  : std::vector<loop::GlobalBaRun>{};
+}
+
 events::MapSnapshot System::map_snapshot() const {
   events::MapSnapshot out;
   std::lock_guard lock(impl_->pipe->map.mutex());

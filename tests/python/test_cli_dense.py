@@ -65,6 +65,11 @@ def test_dense_map_has_no_ghosts_and_covers_the_seen_scene(dense_run):
     assert m["seen_samples"] > 10000
     xyz, rgb = read_ply(out / "run" / "dense_map.ply")
     assert len(xyz) == s["dense"]["points"] > 50000
+    # Every keyframe's cloud is stored (the default 1024 MiB cap is far away), 16 bytes a point.
+    st = s["dense"]["storage"]
+    assert st["max_memory_mb"] == 1024 and st["evicted_keyframes"] == 0
+    assert st["keyframes"] == s["keyframes"] + s["culled_keyframes"]
+    assert st["mib"] == pytest.approx(16 * st["points"] / 2**20) and st["points"] >= len(xyz)
     assert np.all(np.isfinite(xyz))
     # Voxel-downsampled at 1 cm: no two points share a voxel.
     keys = np.floor(xyz / 0.01).astype(np.int64)

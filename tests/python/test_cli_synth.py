@@ -20,7 +20,7 @@ def test_list_names_every_preset():
     assert out.returncode == 0
     for name in ["walking_static", "walking_xyz", "walking_rpy", "walking_halfsphere", "sitting_static",
                  "sitting_xyz", "sitting_halfsphere", "static_xyz", "static_halfsphere", "static_loop",
-                 "walking_loop", "walking_pushed", "walking_long"]:
+                 "walking_loop", "walking_pushed", "walking_long", "walking_circle"]:
         assert name in out.stdout
 
 

@@ -290,6 +290,7 @@ TEST_F(ConfigTest, ShippedDefaultDynamicAndSegmentationSectionsMatchCodeDefaults
   EXPECT_DOUBLE_EQ(dn.max_depth, dn0.max_depth);
   EXPECT_EQ(dn.pixel_stride, dn0.pixel_stride);
   EXPECT_DOUBLE_EQ(dn.depth_edge, dn0.depth_edge);
+  EXPECT_DOUBLE_EQ(dn.max_memory_mb, dn0.max_memory_mb);
   EXPECT_EQ(dn.repair.enabled, dn0.repair.enabled);
   EXPECT_EQ(dn.repair.keyframes, dn0.repair.keyframes);
   EXPECT_DOUBLE_EQ(dn.repair.max_depth, dn0.repair.max_depth);
@@ -311,6 +312,14 @@ TEST_F(ConfigTest, DenseKeysAreCheckedAndUnknownOnesRefused) {
   } catch (const lrd::Error& e) {
     EXPECT_TRUE(contains(e.what(), "dn.yaml:2")) << e.what();
     EXPECT_TRUE(contains(e.what(), "dense.voxel_size")) << e.what();
+  }
+  const auto cap = load_config(write("dm.yaml", "dense:\n  max_memory_mb: -1\n"));
+  try {
+    (void)lrd::dense::DenseParams::from_config(cap.dense);
+    FAIL() << "max_memory_mb -1 accepted";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "dm.yaml:2")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "dense.max_memory_mb")) << e.what();
   }
   const auto typo = load_config(write("dt.yaml", "dense:\n  repair:\n    keyframe: 5\n"));
   try {

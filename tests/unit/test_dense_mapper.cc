@@ -1,11 +1,14 @@
 // DenseMapper (issue 7): keyframes' clouds follow their keyframes' current poses (local BA and
 // loop closing move them after the fact), the map leaves people out, and an error in the dense
-// thread comes back from shutdown() instead of ending the process.
+// thread comes back from shutdown() instead of ending the process; dense.max_memory_mb caps the
+// stored clouds (issue 23, item 4).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
+#include <thread>
 
 #include "lrd/dense/dense_mapper.h"
 #include "lrd/features/keypoint_undistorter.h"
@@ -113,4 +116,93 @@ TEST(DenseMapper, AnErrorInTheThreadComesBackFromShutdown) {
     EXPECT_STREQ(e.what(), "repaired.png: cannot write");
   }
   EXPECT_NO_THROW(dense.shutdown());  // reported once; idempotent afterwards
+}
+
+namespace {
+
+std::size_t cloud_bytes(const lrd::dense::DenseMapper::KeyframeCloud& c) {
+  return c.local->size() * (sizeof(Eigen::Vector3f) + sizeof(cv::Vec3b) + 1);
+}
+
+}  // namespace
+
+TEST(DenseMapper, TheStoredCloudsStayUnderTheMemoryCapCulledKeyframesFirst) {
+  Scene s;
+  lrd::dense::DenseParams params;
+  params.enabled = true;
+  params.repair.keyframes = 1;  // the newest cloud is always kept (free-space check, repair)
+  params.free_space.keyframes = 1;
+  const std::vector<int> frames = {0, 8, 16, 24};
+  // The four clouds' sizes without a cap.
+  std::vector<std::size_t> bytes;
+  {
+    lrd::map::Map map;
+    params.max_memory_mb = 0.0;
+    lrd::dense::DenseMapper dense(map, s.seq.camera(), params, /*threaded=*/false);
+    for (int i : frames) s.add(map, dense, i);
+    dense.process_queued();
+    for (const auto& c : dense.keyframe_clouds()) bytes.push_back(cloud_bytes(c));
+    ASSERT_EQ(bytes.size(), 4u);
+    EXPECT_EQ(dense.storage().bytes, bytes[0] + bytes[1] + bytes[2] + bytes[3]);
+    EXPECT_EQ(dense.storage().evicted_keyframes, 0u);
+  }
+  // A cap that holds any two of a, c, d but not three: b is culled after it is stored.
+  const std::size_t cap = std::max(bytes[0] + bytes[2], bytes[2] + bytes[3]);
+  ASSERT_LE(bytes[0] + bytes[1], cap);  // nothing goes before c arrives
+  ASSERT_GT(bytes[0] + bytes[1] + bytes[2], cap);
+  ASSERT_GT(bytes[0] + bytes[2] + bytes[3], cap);
+  lrd::map::Map map;
+  params.max_memory_mb = static_cast<double>(cap) / (1024.0 * 1024.0);
+  lrd::dense::DenseMapper dense(map, s.seq.camera(), params, /*threaded=*/false);
+  std::vector<std::uint64_t> ids;
+  for (int i : frames) {
+    lrd::map::KeyFrame* kf = s.add(map, dense, i);
+    ids.push_back(kf->id());
+    dense.process_queued();
+    if (i == 8) {
+      std::lock_guard lock(map.mutex());
+      map.erase_keyframe(kf);  // as keyframe culling would
+    }
+  }
+  // After c: b (culled) goes although a is older; after d: a, the oldest of the active ones.
+  const auto kept = dense.keyframe_clouds();
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_EQ(kept[0].keyframe_id, ids[2]);
+  EXPECT_EQ(kept[1].keyframe_id, ids[3]);
+  const lrd::dense::DenseStorage st = dense.storage();
+  EXPECT_EQ(st.keyframes, 2u);
+  EXPECT_EQ(st.bytes, cloud_bytes(kept[0]) + cloud_bytes(kept[1]));
+  EXPECT_LE(st.bytes, cap);
+  EXPECT_EQ(st.evicted_keyframes, 2u);
+  EXPECT_EQ(st.evicted_active, 1u);
+  EXPECT_GT(dense.cloud().size(), 0u);
+}
+
+TEST(DenseMapper, CloudsDroppedUnderTheCapStayValidForAReaderInAnotherThread) {
+  Scene s;
+  lrd::map::Map map;
+  lrd::dense::DenseParams params;
+  params.enabled = true;
+  params.repair.keyframes = 1;
+  params.free_space.keyframes = 1;
+  params.max_memory_mb = 0.01;  // below one cloud: only the newest stays
+  lrd::dense::DenseMapper dense(map, s.seq.camera(), params, /*threaded=*/true);
+  std::atomic<bool> done{false};
+  std::size_t invalid = 0;
+  std::thread reader([&] {
+    while (!done.load()) {
+      // Holds the clouds while the dense thread drops them from its store.
+      const auto clouds = dense.keyframe_clouds();
+      for (const auto& c : clouds) invalid += c.local == nullptr || c.local->size() != c.kept.size() ? 1 : 0;
+    }
+  });
+  for (int i = 0; i < 6; ++i) s.add(map, dense, i * 6);
+  dense.shutdown();
+  done = true;
+  reader.join();
+  const lrd::dense::DenseStorage st = dense.storage();
+  EXPECT_EQ(st.keyframes, 1u);
+  EXPECT_EQ(st.evicted_keyframes, 5u);
+  EXPECT_EQ(dense.keyframe_clouds().size(), 1u);
+  EXPECT_EQ(invalid, 0u);
 }

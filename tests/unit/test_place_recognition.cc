@@ -49,6 +49,8 @@ struct RunResult {
   std::vector<lrd::TrackingState> states;
   lrd::io::Trajectory trajectory;
   std::vector<lrd::loop::LoopEvent> loops;
+  std::vector<lrd::loop::GlobalBaRun> global_ba_runs;
+  std::vector<lrd::TrackResult> results;
   lrd::MapStats map;
 };
 
@@ -64,11 +66,13 @@ RunResult run(const Sequence& seq, bool loop_closing) {
   cv::Mat rgb;
   for (const auto& f : seq.frames) {
     cv::cvtColor(f.rgb, rgb, cv::COLOR_BGR2RGB);
-    r.states.push_back(slam.track_rgbd(rgb, f.depth, f.timestamp).state);
+    r.results.push_back(slam.track_rgbd(rgb, f.depth, f.timestamp));
+    r.states.push_back(r.results.back().state);
   }
   slam.shutdown();
   r.trajectory = slam.trajectory();
   r.loops = slam.loops();
+  r.global_ba_runs = slam.global_ba_runs();
   r.map = slam.map_stats();
   return r;
 }
@@ -92,6 +96,17 @@ TEST(PlaceRecognition, RelocalizesWithinTenFramesOfTheViewReturning) {
   ASSERT_GE(back, kBlankTo) << "never relocalized";
   EXPECT_LE(back, kBlankTo + 10);
   EXPECT_GE(r.map.relocalizations, 1);
+  // The local map each frame was tracked against (bench_scale's figure): none while lost.
+  for (std::size_t i = 5; i < r.results.size(); ++i) {
+    const lrd::TrackResult& t = r.results[i];
+    if (t.state == lrd::TrackingState::Ok) {
+      EXPECT_GE(t.local_keyframes, 1u) << i;
+      EXPECT_GE(t.local_points, static_cast<std::size_t>(t.inliers)) << i;
+    } else {
+      EXPECT_EQ(t.local_keyframes, 0u) << i;
+      EXPECT_EQ(t.local_points, 0u) << i;
+    }
+  }
   // Same map: one alignment fits the trajectory before and after the gap.
   const auto ate = lrd::eval::compute_ate(seq.ground_truth, r.trajectory);
   EXPECT_LT(ate.stats.rmse, 0.02);
@@ -116,6 +131,20 @@ TEST(PlaceRecognition, ClosesTheLoopWhereTheCameraReturns) {
   EXPECT_GT(loop.frame_id, 100u);  // after most of the lap
   EXPECT_LT(loop.frame_id, 180u);
   EXPECT_LT(loop.loop_keyframe_id, 10u);  // back at the start
+  // Its size and latency (bench_scale, issue 23): the keyframes then in the map (ids from 0, some
+  // culled), at least a spanning tree of edges, and the one global BA that followed it.
+  EXPECT_GT(loop.keyframes, 10u);
+  EXPECT_LE(loop.keyframes, loop.keyframe_id + 1);
+  EXPECT_GE(loop.pose_graph_edges, loop.keyframes - 1);
+  EXPECT_GT(loop.detection_seconds, 0.0);
+  EXPECT_GT(loop.correction_seconds, 0.0);
+  ASSERT_EQ(with.global_ba_runs.size(), 1u);
+  const auto& ba = with.global_ba_runs.front();
+  EXPECT_EQ(ba.loop_keyframe_id, loop.keyframe_id);
+  EXPECT_GE(static_cast<std::size_t>(ba.keyframes), loop.keyframes);
+  EXPECT_GT(ba.points, 1000);
+  EXPECT_GT(ba.seconds, 0.0);
+  EXPECT_FALSE(ba.aborted);
   const auto ate_with = lrd::eval::compute_ate(seq.ground_truth, with.trajectory);
   const RunResult without = run(seq, false);
   EXPECT_TRUE(without.loops.empty());

@@ -3,6 +3,7 @@
 // and recovery, and the moving-point check's place in the frame.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "lrd/map/keyframe.h"
@@ -20,6 +21,7 @@ using lrd::test::pose;
 using lrd::tracking::TrackingState;
 
 struct Rig {
+  explicit Rig(lrd::tracking::TrackerParams params = {}) : tracker{map, mapper, params} {}
   lrd::test::TexturedPlane plane;
   lrd::map::Map map;
   lrd::mapping::LocalMapper mapper{map, lrd::mapping::LocalMapperParams{}, false};
@@ -28,8 +30,8 @@ struct Rig {
 
   // Tracks the view from T_cw (the frame's pose is only the renderer's: tracking starts from its
   // own prediction) and runs local mapping on what it queued.
-  lrd::tracking::TrackOutcome track(const Eigen::Isometry3d& T_cw) {
-    lrd::data::Frame f = plane.frame(next_id++, T_cw);
+  lrd::tracking::TrackOutcome track(const Eigen::Isometry3d& T_cw, const cv::Mat& dynamic = cv::Mat()) {
+    lrd::data::Frame f = plane.frame(next_id++, T_cw, cv::Mat(), dynamic);
     f.set_pose(Eigen::Isometry3d::Identity());
     const auto outcome = tracker.track(f);
     mapper.process_queued();
@@ -136,6 +138,63 @@ TEST(Tracker, AStillCameraMakesNoNewKeyframesAMovingOneDoes) {
   }
   EXPECT_GE(moving_keyframes, 2);
   EXPECT_EQ(rig.map.keyframe_count(), static_cast<std::size_t>(1 + moving_keyframes));
+}
+
+// Keyframes made while a person walks in front of a still camera until they hide 60 % of the
+// view and stays there (after a slide sideways that gave the map a few keyframes).
+int keyframes_while_a_person_hides_the_map(bool discount_hidden_points) {
+  lrd::tracking::TrackerParams params;
+  params.discount_hidden_points = discount_hidden_points;
+  Rig rig(params);
+  for (int k = 0; k <= 70; ++k) EXPECT_EQ(rig.track(pose(0, 0, 0, -0.02 * k, 0, 0)).state, TrackingState::Ok);
+  EXPECT_GE(rig.map.keyframe_count(), 3u);
+  const Eigen::Isometry3d still = pose(0, 0, 0, -1.4, 0, 0);
+  for (int k = 0; k < 5; ++k) EXPECT_EQ(rig.track(still).new_keyframe, nullptr) << "still frame " << k;
+  int keyframes = 0;
+  for (int k = 1; k <= 40; ++k) {
+    cv::Mat person(rig.plane.camera().height, rig.plane.camera().width, CV_8U, cv::Scalar(0));
+    person.colRange(0, std::min(384, 16 * k)).setTo(255);
+    const auto outcome = rig.track(still, person);
+    EXPECT_EQ(outcome.state, TrackingState::Ok) << "frame " << k;
+    keyframes += outcome.new_keyframe != nullptr ? 1 : 0;
+  }
+  return keyframes;
+}
+
+TEST(Tracker, APersonHidingTheMapIsNoReasonForAKeyframe) {
+  // Issue 23 item 5: the reference keyframe's points under the person's mask are hidden, not
+  // lost; counting them made a keyframe each time someone walked past (and its points from depth
+  // duplicated the map behind the person).
+  EXPECT_EQ(keyframes_while_a_person_hides_the_map(true), 0);
+  EXPECT_GE(keyframes_while_a_person_hides_the_map(false), 1);  // ORB-SLAM2's rule
+}
+
+// The largest local map over a slide sideways and back (keyframes on the way out share points
+// with the frames on the way back).
+std::size_t largest_local_map(lrd::tracking::TrackerParams params) {
+  Rig rig(params);
+  std::size_t largest = 0;
+  for (int k = 0; k <= 120; ++k) {
+    const int step = k <= 60 ? k : 120 - k;
+    const auto outcome = rig.track(pose(0, 0, 0, -0.02 * step, 0, 0));
+    EXPECT_EQ(outcome.state, TrackingState::Ok) << "frame " << k;
+    if (k > 0) {
+      EXPECT_GE(outcome.local_keyframes, 1u) << "frame " << k;
+      EXPECT_GE(outcome.local_points, static_cast<std::size_t>(outcome.inliers)) << "frame " << k;
+    }
+    largest = std::max(largest, outcome.local_keyframes);
+  }
+  EXPECT_GE(rig.map.keyframe_count(), 3u);
+  return largest;
+}
+
+TEST(Tracker, TheLocalMapKeepsAtMostMaxLocalKeyframes) {
+  // Issue 23: keyframes piling up over one place must not grow tracking's local map (and its
+  // cost) without bound; those sharing the most points with the frame are kept.
+  EXPECT_GT(largest_local_map({}), 2u);
+  lrd::tracking::TrackerParams capped;
+  capped.max_local_keyframes = 2;
+  EXPECT_LE(largest_local_map(capped), 2u);
 }
 
 TEST(Tracker, LossIsAStateAndTrackingResumesWhenTheViewComesBack) {

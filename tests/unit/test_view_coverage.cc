@@ -4,6 +4,7 @@
 
 #include <functional>
 
+#include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
 #include "lrd/tracking/view_coverage.h"
 #include "textured_plane.h"
@@ -71,4 +72,29 @@ TEST(ViewCoverage, TooFewTrackedIsNotJudged) {
   int n = 0;
   f.track([&n](const cv::Point2f&) { return n++ < 9; });
   EXPECT_EQ(tracked_view_coverage(f.frame), 1.0);
+}
+
+TEST(ViewCoverage, ReferencePointsUnderTheDynamicMaskAreHidden) {
+  // The keyframe decision's discount (tracking.discount_hidden_points): the reference keyframe's
+  // points that project onto a person in this frame.
+  lrd::test::TexturedPlane scene;
+  lrd::map::Map map;
+  const lrd::data::Frame first = scene.frame(0, Eigen::Isometry3d::Identity());
+  const lrd::map::KeyFrame* reference = lrd::test::keyframe_with_points(map, first);
+  const int points = reference->tracked_map_points(1);
+  ASSERT_GT(points, 500);
+  // The same view with a person over its left 40 %: the points there (and only those) are hidden.
+  cv::Mat person(scene.camera().height, scene.camera().width, CV_8U, cv::Scalar(0));
+  person.colRange(0, 256).setTo(255);
+  const lrd::data::Frame masked = scene.frame(1, Eigen::Isometry3d::Identity(), cv::Mat(), person);
+  int left = 0;
+  for (std::size_t i = 0; i < first.size(); ++i)
+    left += reference->map_points()[i] != nullptr && first.undistorted()[i].pt.x < 255.5f ? 1 : 0;
+  EXPECT_GT(left, points / 5);
+  // Within rounding at the mask's edge.
+  EXPECT_NEAR(lrd::tracking::reference_points_hidden(masked, *reference, 1), left, 2);
+  // Points need min_observations (an RGB-D observation counts two, as in ORB-SLAM2: one keyframe
+  // here); no mask, nothing hidden.
+  EXPECT_EQ(lrd::tracking::reference_points_hidden(masked, *reference, 3), 0);
+  EXPECT_EQ(lrd::tracking::reference_points_hidden(first, *reference, 1), 0);
 }

@@ -100,10 +100,12 @@ class TexturedPlane {
 
   // Features of the view from T_cw, with the pose set. Depth is dropped (0) where `no_depth` is
   // nonzero, to get keypoints without a virtual right coordinate (monocular observations).
-  data::Frame frame(std::uint64_t id, const Eigen::Isometry3d& T_cw, const cv::Mat& no_depth = cv::Mat()) {
+  // `dynamic`: the frame's dynamic mask (CV_8UC1, nonzero: a person; no features there).
+  data::Frame frame(std::uint64_t id, const Eigen::Isometry3d& T_cw, const cv::Mat& no_depth = cv::Mat(),
+                    const cv::Mat& dynamic = cv::Mat()) {
     Image img = render(T_cw);
     if (!no_depth.empty()) img.depth.setTo(0.0f, no_depth);
-    data::Frame f(id, 0.1 * static_cast<double>(id), img.grey, img.depth, cv::Mat(), extractor_, undistorter_,
+    data::Frame f(id, 0.1 * static_cast<double>(id), img.grey, img.depth, dynamic, extractor_, undistorter_,
                   camera_);
     f.set_pose(T_cw);
     return f;

@@ -25,6 +25,7 @@ DenseMapper::DenseMapper(map::Map& map, const camera::PinholeCamera& camera, con
       coarse_camera_(coarse_camera(camera, kCoarse)),
       params_(params),
       repairer_(camera, params.repair) {
+  storage_.max_memory_mb = params.max_memory_mb;
   if (threaded) thread_ = std::thread([this] { run(); });
 }
 
@@ -88,6 +89,7 @@ void DenseMapper::shutdown() {
 }
 
 void DenseMapper::run() {
+  util::name_this_thread("lrd-dense");
   // Below tracking's priority: on a busy machine the map waits, the camera does not (Linux
   // per-thread nice value; harmless where it is refused).
   if (!util::lower_this_thread_priority())
@@ -165,7 +167,7 @@ void DenseMapper::process(Pending p) {
     for (std::size_t j = 0; j < back.size(); ++j) {
       const Stored& s = stored_[stored_.size() - back[j]];
       updated[j] = s.votes;
-      vote_free_space(s.local, recent_[recent_.size() - back[j]].view.T_cw, p.coarse, coarse_camera_, fs,
+      vote_free_space(*s.local, recent_[recent_.size() - back[j]].view.T_cw, p.coarse, coarse_camera_, fs,
                       updated[j]);
     }
     std::lock_guard lock(mutex_);
@@ -174,8 +176,11 @@ void DenseMapper::process(Pending p) {
   std::size_t keyframes = 0;
   {
     std::lock_guard lock(mutex_);
-    stored_.push_back({p.keyframe_id, std::move(local), std::move(votes)});
-    keyframes = stored_.size();
+    storage_.points += local.size();
+    storage_.bytes += local.size() * kBytesPerPoint;
+    stored_.push_back(
+        {p.keyframe_id, std::make_shared<const PointCloud>(std::move(local)), std::move(votes)});
+    keyframes = storage_.keyframes = stored_.size();
   }
   if (on_update_) on_update_(p.timestamp, keyframes, p.view, repair ? &*repair : nullptr);
   // The sources are the original images (a repaired pixel is another keyframe's, not a new view).
@@ -183,6 +188,51 @@ void DenseMapper::process(Pending p) {
   const auto keep =
       static_cast<std::size_t>(std::max(params_.repair.keyframes, params_.free_space.keyframes));
   while (recent_.size() > keep) recent_.pop_front();
+  enforce_memory_cap();
+}
+
+void DenseMapper::enforce_memory_cap() {
+  // Only this thread changes stored_ and storage_, so it reads them without mutex_.
+  const auto cap = static_cast<std::size_t>(params_.max_memory_mb * 1024.0 * 1024.0);
+  if (cap == 0 || storage_.bytes <= cap) return;
+  // stored_ ends with recent_'s keyframes, which the free-space check indexes from the back.
+  const std::size_t evictable = stored_.size() - std::min(stored_.size(), recent_.size());
+  std::vector<char> culled(evictable);
+  {
+    std::lock_guard lock(map_.mutex());
+    for (std::size_t k = 0; k < evictable; ++k) culled[k] = map_.keyframe(stored_[k].keyframe_id) == nullptr;
+  }
+  // Culled keyframes first (others see what they saw: ORB-SLAM2's redundancy test), oldest first.
+  std::vector<std::size_t> order(evictable);
+  for (std::size_t k = 0; k < evictable; ++k) order[k] = k;
+  std::stable_partition(order.begin(), order.end(), [&](std::size_t k) { return culled[k] != 0; });
+  std::vector<char> drop(stored_.size(), 0);
+  std::size_t bytes = storage_.bytes;
+  DenseStorage dropped;
+  for (std::size_t k : order) {
+    if (bytes <= cap) break;
+    drop[k] = 1;
+    const std::size_t n = stored_[k].local->size();
+    bytes -= n * kBytesPerPoint;
+    dropped.points += n;
+    ++dropped.evicted_keyframes;
+    dropped.evicted_active += static_cast<std::size_t>(culled[k] == 0);
+  }
+  if (dropped.evicted_keyframes == 0) return;  // the newest alone are over the cap
+  if (dropped.evicted_active > 0 && storage_.evicted_active == 0)
+    spdlog::warn(
+        "dense mapping: the keyframe clouds reached dense.max_memory_mb = {} MiB: the oldest are dropped",
+        params_.max_memory_mb);
+  std::lock_guard lock(mutex_);  // readers copy the clouds' pointers under it
+  std::deque<Stored> kept;
+  for (std::size_t k = 0; k < stored_.size(); ++k)
+    if (drop[k] == 0) kept.push_back(std::move(stored_[k]));
+  stored_.swap(kept);
+  storage_.keyframes = stored_.size();
+  storage_.points -= dropped.points;
+  storage_.bytes = bytes;
+  storage_.evicted_keyframes += dropped.evicted_keyframes;
+  storage_.evicted_active += dropped.evicted_active;
 }
 
 PointCloud DenseMapper::keyframe_cloud(const RgbdView& view, const cv::Mat& exclude) const {
@@ -215,7 +265,7 @@ std::vector<DenseMapper::KeyframeCloud> DenseMapper::keyframe_clouds() const {
     for (const Stored& s : stored_) {
       KeyframeCloud c;
       c.keyframe_id = s.keyframe_id;
-      c.local = &s.local;
+      c.local = s.local;
       c.kept.resize(s.votes.size());
       for (std::size_t k = 0; k < s.votes.size(); ++k) c.kept[k] = min_votes == 0 || s.votes[k] < min_votes;
       out.push_back(std::move(c));
@@ -244,6 +294,11 @@ PointCloud DenseMapper::cloud() const {
 RepairTotals DenseMapper::repair_totals() const {
   std::lock_guard lock(mutex_);
   return totals_;
+}
+
+DenseStorage DenseMapper::storage() const {
+  std::lock_guard lock(mutex_);
+  return storage_;
 }
 
 }  // namespace lrd::dense

@@ -10,6 +10,7 @@
 #include <deque>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -35,6 +36,16 @@ struct RepairTotals {
     return dynamic_pixels == 0 ? 1.0
                                : static_cast<double>(filled_pixels) / static_cast<double>(dynamic_pixels);
   }
+};
+
+// What the stored keyframe clouds hold (dense.max_memory_mb caps `bytes`).
+struct DenseStorage {
+  std::size_t keyframes = 0;          // clouds stored
+  std::size_t points = 0;             // their points
+  std::size_t bytes = 0;              // points, colours and free-space votes
+  std::size_t evicted_keyframes = 0;  // clouds dropped to stay under the cap
+  std::size_t evicted_active = 0;     // of those, keyframes still in the map (not culled)
+  double max_memory_mb = 0.0;         // the cap (dense.max_memory_mb; 0: none)
 };
 
 class DenseMapper {
@@ -72,6 +83,7 @@ class DenseMapper {
   // map mutex briefly to read poses.
   [[nodiscard]] PointCloud cloud() const;
   [[nodiscard]] RepairTotals repair_totals() const;
+  [[nodiscard]] DenseStorage storage() const;
 
   // One keyframe's cloud as the dense stage keeps it: in the camera frame (z = the measured
   // depth), with the keyframe's current pose and which points are in the map (the rest other
@@ -79,7 +91,7 @@ class DenseMapper {
   struct KeyframeCloud {
     std::uint64_t keyframe_id = 0;
     Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();
-    const PointCloud* local = nullptr;  // valid while the mapper lives
+    std::shared_ptr<const PointCloud> local;  // shared: the mapper may drop it meanwhile (memory cap)
     std::vector<char> kept;
   };
   // Every keyframe's, in the order they were added. Takes the map mutex briefly to read poses.
@@ -95,13 +107,16 @@ class DenseMapper {
   };
   struct Stored {
     std::uint64_t keyframe_id;
-    PointCloud local;                 // camera frame
-    std::vector<std::uint8_t> votes;  // per point: keyframes that saw through it
+    std::shared_ptr<const PointCloud> local;  // camera frame
+    std::vector<std::uint8_t> votes;          // per point: keyframes that saw through it
   };
+  static constexpr std::size_t kBytesPerPoint = sizeof(Eigen::Vector3f) + sizeof(cv::Vec3b) + 1;
 
   void run();
   void process(Pending p);
   [[nodiscard]] PointCloud keyframe_cloud(const RgbdView& view, const cv::Mat& exclude) const;
+  // Drops stored clouds older than recent_'s until they fit in dense.max_memory_mb.
+  void enforce_memory_cap();
 
   map::Map& map_;
   camera::PinholeCamera camera_;
@@ -122,6 +137,7 @@ class DenseMapper {
   mutable std::mutex mutex_;  // stored_ (a deque: elements stay put as it grows), totals_
   std::deque<Stored> stored_;
   RepairTotals totals_;
+  DenseStorage storage_;
   // Recent keyframes' images, the repair sources (dense thread only).
   std::deque<Pending> recent_;
   std::thread thread_;

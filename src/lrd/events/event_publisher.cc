@@ -48,6 +48,7 @@ void EventPublisher::publish(Event event) {
 }
 
 void EventPublisher::run() {
+  util::name_this_thread("lrd-events");
   // Subscribers work below tracking's priority (as the dense thread): on a busy machine the
   // deliveries wait, the camera does not.
   util::lower_this_thread_priority();

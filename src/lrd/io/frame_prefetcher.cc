@@ -6,6 +6,7 @@
 
 #include "lrd/util/error.h"
 #include "lrd/util/fault_injection.h"
+#include "lrd/util/thread_priority.h"
 
 namespace lrd::io {
 namespace {
@@ -42,6 +43,7 @@ FramePrefetcher::~FramePrefetcher() {
 }
 
 void FramePrefetcher::run() {
+  util::name_this_thread("lrd-decode");
   for (std::size_t i = begin_; i < end_; ++i) {
     {
       std::unique_lock lock(mutex_);

@@ -17,6 +17,7 @@
 #include "lrd/optim/global_bundle_adjuster.h"
 #include "lrd/optim/pose_graph_optimizer.h"
 #include "lrd/util/fault_injection.h"
+#include "lrd/util/thread_priority.h"
 
 namespace lrd::loop {
 
@@ -104,6 +105,7 @@ LoopCloserStats LoopCloser::stats() const {
 }
 
 void LoopCloser::run() {
+  util::name_this_thread("lrd-loop");
   try {
     while (const auto id = queue_.wait_pop()) process(*id);
   } catch (...) {
@@ -126,8 +128,12 @@ void LoopCloser::process(std::uint64_t keyframe_id) {
     try {
       const auto loop = detector_.detect(kf);
       if (loop && loop->T_cw_corrected.matrix().allFinite()) {
+        const double detection_seconds = seconds_since(t0);
+        const auto t1 = std::chrono::steady_clock::now();
         event = correct_loop(*loop);
         if (event) {
+          event->detection_seconds = detection_seconds;
+          event->correction_seconds = seconds_since(t1);
           detector_.loop_closed(kf);
         } else {
           std::lock_guard slock(stats_mutex_);
@@ -160,7 +166,12 @@ void LoopCloser::process(std::uint64_t keyframe_id) {
 std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
   map::KeyFrame* kf = loop.current;
   const std::uint64_t tag = kf->id();
-  LoopEvent event{kf->frame_id(), kf->timestamp(), kf->id(), loop.loop->id(), loop.match_count, 0.0};
+  LoopEvent event;
+  event.frame_id = kf->frame_id();
+  event.timestamp = kf->timestamp();
+  event.keyframe_id = kf->id();
+  event.loop_keyframe_id = loop.loop->id();
+  event.inliers = loop.match_count;
   event.correction_m = (kf->camera_center() - loop.T_cw_corrected.inverse().translation()).norm();
 
   // 1. The current keyframe's neighbourhood moves rigidly with it.
@@ -280,6 +291,8 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
   optim::PoseGraphParams pg;
   pg.iterations = params_.pose_graph_iterations;
   const optim::PoseGraphResult result = optim::optimize_pose_graph(nodes, edges, pg);
+  event.keyframes = all.size();
+  event.pose_graph_edges = edges.size();
   for (map::KeyFrame* k : all) k->set_pose(result.T_cw.at(k->id()));
   // Followers (no edges) keep their place relative to the current keyframe.
   for (map::KeyFrame* k : followers) k->set_pose(before.at(k) * before.at(kf).inverse() * kf->T_cw());
@@ -328,6 +341,7 @@ void LoopCloser::start_global_ba(std::uint64_t run) {
   }
   abort_global_ba_.store(false);
   global_ba_thread_ = std::thread([this, run] {
+    util::name_this_thread("lrd-global-ba");
     try {
       run_global_ba(run);
     } catch (...) {
@@ -364,11 +378,13 @@ void LoopCloser::run_global_ba(std::uint64_t run) {
         "keyframes moved against their parents by up to {:.3f} m{}",
         run, s.keyframes, s.points, s.initial_rms_px, s.final_rms_px, s.largest_edge_change_m,
         s.aborted ? " (aborted)" : "");
+  const double seconds = seconds_since(t0);
   std::lock_guard lock(stats_mutex_);
   ++stats_.global_bundle_adjustments;
   if (s.aborted) ++stats_.aborted_global_bundle_adjustments;
   if (s.implausible) ++stats_.implausible_global_bundle_adjustments;
-  stats_.global_ba_seconds += seconds_since(t0);
+  stats_.global_ba_seconds += seconds;
+  stats_.global_ba_runs.push_back({run, s.keyframes, s.points, seconds, s.aborted, s.implausible});
 }
 
 }  // namespace lrd::loop

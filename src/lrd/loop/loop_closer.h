@@ -63,10 +63,25 @@ struct LoopEvent {
   std::uint64_t loop_keyframe_id = 0;
   int inliers = 0;            // matches supporting the loop after the projection search
   double correction_m = 0.0;  // how far the keyframe moved
+  // Scale (issue 23): the map's keyframes when the loop was corrected, the essential graph's
+  // edges, and the latency of each step, so a benchmark can plot it against the map's size.
+  std::size_t keyframes = 0;
+  std::size_t pose_graph_edges = 0;
+  double detection_seconds = 0.0;   // place recognition and the loop's relative pose
+  double correction_seconds = 0.0;  // moving the neighbourhood, fusion, pose graph, every point
+};
+
+// One global bundle adjustment after a loop (its own thread when threaded).
+struct GlobalBaRun {
+  std::uint64_t loop_keyframe_id = 0;  // the keyframe whose loop started it
+  int keyframes = 0, points = 0;       // solved
+  double seconds = 0.0;                // from its start to merged (or dropped)
+  bool aborted = false, implausible = false;
 };
 
 struct LoopCloserStats {
   std::vector<LoopEvent> loops;
+  std::vector<GlobalBaRun> global_ba_runs;
   int rejected_loops = 0;  // detected, but contradicted by the map (loop_agreement.h)
   int global_bundle_adjustments = 0;
   int aborted_global_bundle_adjustments = 0;

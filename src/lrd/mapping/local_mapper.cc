@@ -11,6 +11,7 @@
 #include "lrd/map/map.h"
 #include "lrd/map/map_point.h"
 #include "lrd/util/fault_injection.h"
+#include "lrd/util/thread_priority.h"
 
 namespace lrd::mapping {
 
@@ -94,6 +95,7 @@ LocalMapperStats LocalMapper::stats() const {
 }
 
 void LocalMapper::run() {
+  util::name_this_thread("lrd-mapping");
   // Busy from the moment a keyframe leaves the queue (tracking asks before proposing another).
   try {
     while (const auto id = queue_.wait_pop([this] { accepting_.store(false); })) {

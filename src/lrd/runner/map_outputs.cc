@@ -33,6 +33,7 @@ DenseReport finish_dense(const System& slam, const RepairRecorder& repairs, cons
     if (!cv::imwrite(png.string(), picture)) throw file_error(png, "cannot write");
   }
   d.repair = slam.repair_totals();
+  d.storage = slam.dense_storage();
   if (repairs.has_truth()) {
     const RepairRecorder::DepthError e = repairs.depth_error();
     if (e.pixels > 0) {

@@ -165,7 +165,11 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
                           {"keyframe", e.keyframe_id},
                           {"loop_keyframe", e.loop_keyframe_id},
                           {"inliers", e.inliers},
-                          {"correction_m", e.correction_m}});
+                          {"correction_m", e.correction_m},
+                          {"map_keyframes", e.keyframes},
+                          {"pose_graph_edges", e.pose_graph_edges},
+                          {"detection_ms", 1e3 * e.detection_seconds},
+                          {"correction_ms", 1e3 * e.correction_seconds}});
   if (r.has_ground_truth) {
     j["ate"] = {{"rmse", r.ate_rmse},
                 {"mean", r.ate_mean},
@@ -194,7 +198,16 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       repair["median_depth_error"] = *d.repair_median_depth_error;
       repair["compared_pixels"] = d.repair_compared_pixels;
     }
-    j["dense"] = {{"points", d.points}, {"assemble_seconds", d.assemble_seconds}, {"repair", repair}};
+    const nlohmann::json storage = {{"keyframes", d.storage.keyframes},
+                                    {"points", d.storage.points},
+                                    {"mib", static_cast<double>(d.storage.bytes) / (1024.0 * 1024.0)},
+                                    {"max_memory_mb", d.storage.max_memory_mb},
+                                    {"evicted_keyframes", d.storage.evicted_keyframes},
+                                    {"evicted_active_keyframes", d.storage.evicted_active}};
+    j["dense"] = {{"points", d.points},
+                  {"assemble_seconds", d.assemble_seconds},
+                  {"repair", repair},
+                  {"storage", storage}};
     if (d.map)
       j["dense"]["map"] = {{"threshold", d.map->threshold},
                            {"map_points", d.map->map_points},

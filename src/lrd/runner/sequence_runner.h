@@ -145,6 +145,7 @@ struct DenseReport {
   std::size_t points = 0;         // in dense_map.ply
   double assemble_seconds = 0.0;  // merging the keyframes' clouds at their final poses
   dense::RepairTotals repair;
+  dense::DenseStorage storage;                      // the keyframes' stored clouds at the end
   std::optional<double> repair_median_depth_error;  // m, vs static/depth (synthetic benchmark)
   std::size_t repair_compared_pixels = 0;
   std::optional<eval::MapAccuracy> map;  // vs scene.ply (synthetic benchmark)

@@ -4,6 +4,7 @@
 
 #include "lrd/util/error.h"
 #include "lrd/util/fault_injection.h"
+#include "lrd/util/thread_priority.h"
 
 namespace lrd::segmentation {
 
@@ -59,6 +60,7 @@ std::optional<SegmentationResult> SegmentationWorker::wait(std::uint64_t frame_i
 }
 
 void SegmentationWorker::run() {
+  util::name_this_thread("lrd-segment");
   for (;;) {
     Request req;
     {

@@ -126,16 +126,19 @@ Eigen::Isometry3d CameraMotion::pose_at(double t) const {
       const Eigen::Vector3d q = p + 2.0 * radial + Eigen::Vector3d(0, 0, -0.35);
       return look_at(p + tp, q, ta.x(), ta.y(), ta.z());
     }
-    case MotionKind::kTour: {
-      // The long preset (bench_scale, issue 23): laps of kTourLap seconds around the middle of
-      // the room, looking outwards, whatever the length. Radius and height drift between laps
-      // (periods of 7.3 and 4.9 laps: under 0.3 m from one lap to the next), so every lap
+    case MotionKind::kTour:
+    case MotionKind::kCircle: {
+      // The long presets (bench_scale, issue 23): laps of kTourLap seconds around the middle of
+      // the room, looking outwards, whatever the length. kTour: radius and height drift between
+      // laps (periods of 7.3 and 4.9 laps: under 0.3 m from one lap to the next), so every lap
       // revisits what earlier ones saw (loops) from a slightly different place, at 0.13-0.28 m/s
-      // and 18 deg/s (TUM fr3's walking sequences: 0.1-0.4 m/s).
+      // and 18 deg/s (TUM fr3's walking sequences: 0.1-0.4 m/s). kCircle: the same 0.65 m circle
+      // every lap (0.2 m/s), where the map should stop growing after the first laps (item 5).
       const Eigen::Vector3d c(2.7, 2.5, 1.35);
+      const double drift = kind_ == MotionKind::kTour ? 1.0 : 0.0;
       const double theta = kTwoPi * t / kTourLap;
-      const double radius = 0.65 + 0.25 * std::sin(kTwoPi * t / (7.3 * kTourLap));
-      const double height = 0.15 * std::sin(kTwoPi * t / (4.9 * kTourLap));
+      const double radius = 0.65 + drift * 0.25 * std::sin(kTwoPi * t / (7.3 * kTourLap));
+      const double height = drift * 0.15 * std::sin(kTwoPi * t / (4.9 * kTourLap));
       const Eigen::Vector3d radial(std::cos(theta), std::sin(theta), 0.0);
       const Eigen::Vector3d p = c + radius * radial + Eigen::Vector3d(0, 0, height);
       const Eigen::Vector3d q = p + 2.0 * radial + Eigen::Vector3d(0, 0, -0.35);

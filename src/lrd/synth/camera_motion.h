@@ -1,7 +1,8 @@
 #pragma once
 // Camera trajectories of the synthetic presets, mirroring TUM fr3's: nearly still, translating
 // along x/y/z, rotating in roll/pitch/yaw, moving on a half sphere, and circling the room twice;
-// and the long preset's tour (kTour: laps of the room for as long as the sequence lasts).
+// and the long presets' laps of the room for as long as the sequence lasts (kTour: radius and
+// height drifting; kCircle: the same circle every lap).
 // Every pose is a smooth function of time plus a small hand-held tremor.
 #include <Eigen/Geometry>
 #include <array>
@@ -9,7 +10,7 @@
 
 namespace lrd::synth {
 
-enum class MotionKind { kStill, kXyz, kRpy, kHalfsphere, kLoop, kTour };
+enum class MotionKind { kStill, kXyz, kRpy, kHalfsphere, kLoop, kTour, kCircle };
 
 class CameraMotion {
  public:
@@ -20,7 +21,7 @@ class CameraMotion {
   // it first sees what session 1 did not and then overlaps session 1's view in part.
   CameraMotion(MotionKind kind, double duration, std::uint64_t seed, int session = 1);
   static constexpr int kMaxSession = 3;
-  static constexpr double kTourLap = 20.0;  // s, one lap of kTour
+  static constexpr double kTourLap = 20.0;  // s, one lap of kTour and kCircle
   // Camera-to-world pose (camera: x right, y down, z forward; world: z up).
   [[nodiscard]] Eigen::Isometry3d pose_at(double t) const;
   [[nodiscard]] MotionKind kind() const { return kind_; }

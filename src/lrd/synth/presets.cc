@@ -67,6 +67,10 @@ const std::vector<PresetSpec>& preset_specs() {
        "the long preset (12 min): three people walk around the room, one against the others, while the "
        "camera tours it, 36 laps whose radius and height drift (revisits, loops); bench_scale's sequence",
        true},
+      {"walking_circle", 21600, MotionKind::kCircle, Cast::kTourWalkers,
+       "walking_long's people while the camera circles the room on the same 0.65 m circle for 36 laps "
+       "(12 min): a map that should stop growing after the first laps",
+       true},
   };
   return specs;
 }

@@ -36,7 +36,12 @@ bool KeyFrameInserter::needed(const data::Frame& frame, const KeyFrameContext& c
   if (context.recovered_at && frame.id() < *context.recovered_at + max_frames && n_kfs > max_frames)
     return false;
   const int min_obs = n_kfs <= 2 ? 2 : 3;
-  const int ref_matches = context.reference->tracked_map_points(min_obs);
+  // The reference's points a person now hides are neither tracked nor lost: counting them would
+  // ask for a keyframe each time someone walks past, and its points from depth duplicate the
+  // hidden map's (walking_circle, bench/results/scale.md).
+  const int hidden =
+      params_.discount_hidden_points ? reference_points_hidden(frame, *context.reference, min_obs) : 0;
+  const int ref_matches = context.reference->tracked_map_points(min_obs) - hidden;
   const bool idle = mapper_.accepts_keyframes();
   const int inliers = context.inliers;
 
@@ -64,9 +69,10 @@ bool KeyFrameInserter::needed(const data::Frame& frame, const KeyFrameContext& c
   // interrupting it, so the rule adds no mapping load to a busy thread.
   const bool c2 = (inliers < ref_matches * ratio || need_close || need_coverage) && inliers > 15;
   spdlog::debug(
-      "frame {}: keyframe? inliers {} ref {} (kf {}) close {}/{} coverage {:.2f} idle {} c1 {}{}{} c2 {}",
-      frame.id(), inliers, ref_matches, context.reference->id(), tracked_close, untracked_close, coverage,
-      idle, c1a, c1b, c1c, c2);
+      "frame {}: keyframe? inliers {} ref {} (kf {}, {} hidden) close {}/{} coverage {:.2f} idle {} "
+      "c1 {}{}{} c2 {}",
+      frame.id(), inliers, ref_matches, context.reference->id(), hidden, tracked_close, untracked_close,
+      coverage, idle, c1a, c1b, c1c, c2);
   if (!((c1a || c1b || c1c) && c2)) return false;
   if (idle) return true;
   mapper_.interrupt_ba();

@@ -68,6 +68,7 @@ TrackerParams TrackerParams::from_config(config::NodeReader r) {
   r.check(p.keyframe_close_points >= 0, "keyframe_close_points", "must be >= 0");
   p.keyframe_coverage = r.get("keyframe_coverage", p.keyframe_coverage);
   r.check(p.keyframe_coverage >= 0 && p.keyframe_coverage <= 1, "keyframe_coverage", "must be in [0, 1]");
+  p.discount_hidden_points = r.get("discount_hidden_points", p.discount_hidden_points);
   p.min_relocalization_inliers = r.get("min_relocalization_inliers", p.min_relocalization_inliers);
   r.check(p.min_relocalization_inliers >= 6, "min_relocalization_inliers", "must be >= 6");
   r.finish();
@@ -125,7 +126,11 @@ TrackOutcome Tracker::track(data::Frame& frame) {
   }
   outcome.state = state_;
   outcome.inliers = inliers_;
-  if (state_ == TrackingState::Ok && frame.has_pose()) outcome.T_cw = frame.T_cw();
+  if (state_ == TrackingState::Ok && frame.has_pose()) {
+    outcome.T_cw = frame.T_cw();
+    outcome.local_keyframes = local_keyframes_.size();
+    outcome.local_points = local_points_.size();
+  }
   return outcome;
 }
 
@@ -349,11 +354,24 @@ void Tracker::update_local_keyframes(data::Frame& frame) {
   }
   if (counter.empty()) return;
   const std::uint64_t tag = frame.id();
+  const auto max_kfs = static_cast<std::size_t>(params_.max_local_keyframes);
+  std::vector<std::pair<map::KeyFrame*, int>> sharing;
+  for (const auto& [kf, n] : counter)
+    if (!kf->is_bad()) sharing.emplace_back(kf, n);
+  // At most max_local_keyframes of them, those sharing the most (issue 23: where laps pile up
+  // keyframes over the same room, every one sharing a few points would enter, and tracking's cost
+  // would grow with the time spent there); kept in id order, as below the cap.
+  if (sharing.size() > max_kfs) {
+    std::stable_sort(sharing.begin(), sharing.end(),
+                     [](const auto& a, const auto& b) { return a.second > b.second; });
+    sharing.resize(max_kfs);
+    std::sort(sharing.begin(), sharing.end(),
+              [](const auto& a, const auto& b) { return a.first->id() < b.first->id(); });
+  }
   local_keyframes_.clear();
   map::KeyFrame* best = nullptr;
   int best_count = 0;
-  for (const auto& [kf, n] : counter) {
-    if (kf->is_bad()) continue;
+  for (const auto& [kf, n] : sharing) {
     if (n > best_count) {
       best_count = n;
       best = kf;
@@ -363,7 +381,6 @@ void Tracker::update_local_keyframes(data::Frame& frame) {
   }
   // Plus some neighbours of those: best covisibles, a child and the parent.
   const std::size_t first_order = local_keyframes_.size();
-  const auto max_kfs = static_cast<std::size_t>(params_.max_local_keyframes);
   auto try_add = [&](map::KeyFrame* kf) {
     if (kf == nullptr || kf->is_bad() || kf->track_reference_for_frame == tag) return false;
     kf->track_reference_for_frame = tag;

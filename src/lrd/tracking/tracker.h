@@ -58,6 +58,8 @@ struct TrackOutcome {
   bool relocalized = false;         // recovered from loss on this frame by place recognition
   dynamic::GeometryStats geometry;  // the moving-point check (zero without one)
   double wait_seconds = 0.0;        // waiting for local mapping to release the map
+  // The local map the frame was tracked against (keyframes, map points), when tracked.
+  std::size_t local_keyframes = 0, local_points = 0;
 };
 
 class Tracker {

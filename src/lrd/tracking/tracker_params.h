@@ -13,7 +13,7 @@ struct TrackerParams {
   int min_pose_inliers = 10;            // after motion-only optimization
   int min_local_map_inliers = 30;       // tracking is OK above this
   int min_inliers_after_recovery = 50;  // ... for a second after recovering from loss
-  int max_local_keyframes = 80;
+  int max_local_keyframes = 30;         // the local map: keyframes sharing the most points, then neighbours
   float local_map_radius = 1.0f;
   int max_frames_between_keyframes = 0;  // 0: the camera's fps
   int min_frames_between_keyframes = 0;
@@ -23,6 +23,10 @@ struct TrackerParams {
   // keypoints, across or down the image: a map seen in one strip of the view leaves rotation and
   // sideways translation nearly interchangeable (0: off, as ORB-SLAM2; docs/slam-core.md).
   double keyframe_coverage = 0.7;
+  // The reference keyframe's points that project under this frame's dynamic mask are not counted
+  // as lost: a person in front of the map hides it, the view has not moved on (docs/slam-core.md,
+  // "Keyframes with people in view"). false: every point counts, as ORB-SLAM2.
+  bool discount_hidden_points = true;
   int min_relocalization_inliers = 20;  // after motion-only BA on the PnP inliers
   optim::PoseOptimizerParams pose;
 
