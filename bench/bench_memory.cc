@@ -11,7 +11,6 @@
 // system's. The dense map is off: its clouds are the dense stage's, not the map's. The ATE over
 // the whole run (ground truth played the same way) says whether the map stayed sound.
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -25,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/resident_memory.h"
 #include "bench/sequence_cache.h"
 #include "lrd/eval/ate.h"
 #include "lrd/io/trajectory.h"
@@ -36,13 +36,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Resident set size of this process (Linux /proc/self/statm), in MiB.
-double resident_mib() {
-  std::ifstream statm("/proc/self/statm");
-  long pages_total = 0, pages_resident = 0;
-  statm >> pages_total >> pages_resident;
-  return static_cast<double>(pages_resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
-}
+using lrd::bench::resident_mib;
 
 // Frame k of a ping-pong playback of n frames: 0, 1, ..., n-1, n-2, ..., 1, 0, 1, ...
 std::size_t ping_pong(std::size_t k, std::size_t n) {

@@ -16,7 +16,6 @@
 // what keeps the map from growing), so the pose graph at 500+ keyframes is also timed on
 // essential graphs of the run's shape (edges per keyframe) at the sizes --pose-graph-sizes lists.
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -30,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/resident_memory.h"
 #include "bench/svg_chart.h"
 #include "bench/synthetic_pose_graph.h"
 #include "lrd/eval/ate.h"
@@ -39,6 +39,8 @@
 #include "lrd/util/yardstick.h"
 
 namespace {
+
+using lrd::bench::resident_mib;
 
 using lrd::util::median_of;
 
@@ -76,13 +78,6 @@ struct WindowRow {
 
 constexpr std::array<const char*, 5> kStageNames{"extraction", "mask wait", "geometry check", "tracking",
                                                  "waiting for mapping"};
-
-double resident_mib() {
-  std::ifstream statm("/proc/self/statm");
-  long pages_total = 0, pages_resident = 0;
-  statm >> pages_total >> pages_resident;
-  return static_cast<double>(pages_resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
-}
 
 double per(std::size_t bytes, std::size_t count) {
   return count ? static_cast<double>(bytes) / static_cast<double>(count) : 0.0;
