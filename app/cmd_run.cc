@@ -15,6 +15,7 @@
 
 #include "app/bag_input.h"
 #include "app/commands.h"
+#include "app/realism_options.h"
 #include "lrd/report/html_page.h"
 #include "lrd/report/run_data.h"
 #include "lrd/runner/sequence_runner.h"
@@ -68,6 +69,7 @@ struct RunCli {
   // --synth: frames rendered on the decoding thread, nothing written but the outputs.
   std::string synth;
   synth::SynthOptions synth_options;
+  RealismOptions realism;
 };
 
 void print_dense(const runner::DenseReport& d) {
@@ -192,6 +194,7 @@ void register_run_command(CLI::App& app) {
       ->needs(synth)
       ->check(CLI::Range(1, synth::CameraMotion::kMaxSession))
       ->capture_default_str();
+  cli->realism.add_to(cmd, synth);
   cmd->add_option("--frames", cli->synth_options.frames,
                   "With --synth: frames to render (default: the preset's length; a prefix of it)")
       ->needs(synth)
@@ -266,6 +269,7 @@ void register_run_command(CLI::App& app) {
     if (!cli->bag.bag.empty()) o.source = open_bag(cli->bag);
     if (!cli->synth.empty()) {
       cli->synth_options.preset = cli->synth;
+      cli->synth_options.realism = cli->realism.params();
       o.source = std::make_shared<const synth::SyntheticSource>(cli->synth_options);
     }
     if (!cli->settings.empty()) o.settings = cli->settings;

@@ -6,6 +6,8 @@
 
 #include "app/bag_input.h"
 #include "app/commands.h"
+#include "app/realism_options.h"
+#include "lrd/eval/motion_statistics.h"
 #include "lrd/synth/presets.h"
 #include "lrd/synth/sequence_writer.h"
 #include "lrd/synth/synthetic_sequence.h"
@@ -13,6 +15,16 @@
 #include "lrd/util/error.h"
 
 namespace lrd::app {
+
+namespace {
+
+void print_motion(const synth::SyntheticSequence& seq) {
+  const auto m = eval::motion_statistics(seq.ground_truth());
+  std::printf("camera motion (TUM's 1-s windows): %.2f s, %.3f m, mean %.3f m/s and %.2f deg/s\n", m.duration,
+              m.length, m.mean_speed, m.mean_angular_speed);
+}
+
+}  // namespace
 
 void register_synth_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
@@ -33,7 +45,11 @@ void register_synth_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--frames", opts->frames,
                   "Number of frames (default: the preset's length; a prefix of it)");
-  cmd->add_flag("--motion-blur", opts->motion_blur, "Average 5 sub-frames over a 1/60 s exposure");
+  cmd->add_flag(
+      "--motion-blur", opts->motion_blur,
+      "Average 5 sub-frames over a 1/60 s exposure (the clean profile; tum blurs over its own exposure)");
+  auto realism = std::make_shared<RealismOptions>();
+  realism->add_to(cmd, nullptr);
   cmd->add_option("--camera-speed", opts->camera_speed,
                   "Run the preset's camera path this many times faster (e.g. static_loop at 2.5: its loop "
                   "closes near frame 210, for short tests)")
@@ -50,6 +66,10 @@ void register_synth_command(CLI::App& app) {
       "START:COUNT - frames START.. are black without depth (a covered lens) while the camera moves on: "
       "a relocalization test");
   cmd->add_flag("--list", *list, "List the presets and exit");
+  auto motion_only = std::make_shared<bool>(false);
+  cmd->add_flag("--motion-stats", *motion_only,
+                "Print the camera motion's statistics as TUM states them (duration, length, mean speeds over "
+                "1-s windows) without rendering, and exit");
   auto voc_dir = std::make_shared<std::string>();
   auto voc_images = std::make_shared<int>(2000);
   cmd->add_option(
@@ -58,7 +78,8 @@ void register_synth_command(CLI::App& app) {
       "folder (frames of every preset; seeds from --seed, default 1000, disjoint from evaluation seeds)");
   cmd->add_option("--images", *voc_images, "With --export-voc: number of images")->capture_default_str();
   auto* seed_opt = cmd->get_option("--seed");
-  cmd->callback([opts, out, list, voc_dir, voc_images, seed_opt, blank, bag] {
+  cmd->callback([opts, out, list, voc_dir, voc_images, seed_opt, blank, bag, realism, motion_only] {
+    opts->realism = realism->params();
     if (!blank->empty()) {
       int from = -1, count = -1;
       char rest = 0;
@@ -85,10 +106,15 @@ void register_synth_command(CLI::App& app) {
         std::printf("%-20s %5d frames  %s\n", s.name.c_str(), s.default_frames, s.description.c_str());
       return;
     }
+    if (*motion_only) {
+      print_motion(synth::SyntheticSequence(*opts));
+      return;
+    }
     if (out->empty()) throw Error("synth: --out DIR is required");
     const synth::SyntheticSequence seq(*opts);
-    std::fprintf(stderr, "synth: %s, seed %llu, %d frames -> %s\n", seq.spec().name.c_str(),
-                 static_cast<unsigned long long>(opts->seed), seq.size(), out->c_str());
+    std::fprintf(stderr, "synth: %s, seed %llu, %d frames, realism %s -> %s\n", seq.spec().name.c_str(),
+                 static_cast<unsigned long long>(opts->seed), seq.size(), opts->realism.profile.c_str(),
+                 out->c_str());
     const bool tty = isatty(fileno(stderr));
     const auto summary = synth::write_sequence(seq, *out, [tty](int done, int total) {
       if (tty && (done % 10 == 0 || done == total)) std::fprintf(stderr, "\r  %d/%d frames", done, total);
@@ -100,6 +126,7 @@ void register_synth_command(CLI::App& app) {
         seq.spec().name.c_str(), summary.frames, summary.seconds, summary.frames / summary.seconds,
         100 * summary.mean_dynamic_fraction, 100 * summary.median_dynamic_fraction,
         100 * summary.max_dynamic_fraction, 100 * summary.frames_with_20_to_50_percent);
+    print_motion(seq);
     if (!bag->empty()) {
       write_folder_as_bag(*out, *bag);
       std::printf("wrote %s\n", bag->c_str());

@@ -43,6 +43,11 @@ int main(int argc, char** argv) {
   app.add_option(
       "--static-control", control,
       "Also run static mode with the occupancy map, the negative control (people stay in the grid)");
+  std::string realism = "clean";
+  app.add_option("--realism", realism,
+                 "Realism profile of the rendered sequences (docs/synthetic-benchmark.md)")
+      ->check(CLI::IsMember({"clean", "tum"}))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (segmenter.empty()) segmenter = fs::exists("models/fnet-lite.onnx") ? "fnet" : "gt-masks";
 
@@ -75,7 +80,7 @@ int main(int argc, char** argv) {
   };
   try {
     for (const std::string& preset : presets) {
-      const fs::path dir = lrd::bench::ensure_sequence(cache, preset, frames);
+      const fs::path dir = lrd::bench::ensure_sequence(cache, preset, frames, 1, realism);
       const double y_apart = lrd::bench::sequence_yardstick_ms(dir);
       std::vector<double> without, with, with_occupancy, run_y;
       lrd::runner::RunReport dense_report, occupancy_report;
@@ -134,6 +139,7 @@ int main(int argc, char** argv) {
   fs::create_directories(fs::path(out_file).parent_path());
   std::ofstream(out_file) << "# Dense map: cost to tracking and quality (full mode, segmenter " << segmenter
                           << (realtime ? ", frames at the camera's pace" : ", frames as fast as tracked")
+                          << ", realism `" << realism << "`"
                           << ")\n\n"
                           << md << "\n## Occupancy map (issue 25)\n\n"
                           << occ_md;

@@ -90,6 +90,11 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames, "Frames per sequence (default: the preset's length)");
   app.add_option("--cache", cache, "Where generated sequences are kept");
   app.add_option("--out", out_dir, "Where tables.md, results.json and the runs go");
+  std::string realism = "clean";
+  app.add_option("--realism", realism,
+                 "Realism profile of the rendered sequences (docs/synthetic-benchmark.md)")
+      ->check(CLI::IsMember({"clean", "tum"}))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (segmenter.empty()) segmenter = fs::exists("models/fnet-lite.onnx") ? "fnet" : "gt-masks";
   if (sync) modes.push_back("full-sync");
@@ -100,7 +105,7 @@ int main(int argc, char** argv) {
               "med/Y", "prec", "recall");
   try {
     for (const std::string& preset : presets) {
-      const fs::path dir = lrd::bench::ensure_sequence(cache, preset, frames);
+      const fs::path dir = lrd::bench::ensure_sequence(cache, preset, frames, 1, realism);
       const double y_apart = lrd::bench::sequence_yardstick_ms(dir);
       for (const std::string& mode : modes) {
         lrd::runner::RunOptions o;
@@ -138,7 +143,8 @@ int main(int argc, char** argv) {
   }
 
   std::ostringstream md;
-  md << "# Dynamic-scene benchmark\n\nSegmenter: `" << segmenter << "`. Synthetic presets, seed 1"
+  md << "# Dynamic-scene benchmark\n\nSegmenter: `" << segmenter << "`. Synthetic presets, seed 1, realism `"
+     << realism << "`"
      << (frames > 0 ? fmt::format(", first {} frames", frames) : std::string(", default lengths"))
      << ". Time per frame excludes PNG decoding; Y = median `cv::ORB` detectAndCompute on the same "
         "frames.\n\n";

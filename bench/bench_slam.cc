@@ -45,16 +45,23 @@ int main(int argc, char** argv) {
                "Run with loop closing (off: the SLAM core's bars are without it)");
   app.add_option("--mode", mode,
                  "Dynamic-scene mode (default static: the SLAM core alone, the ORB-SLAM2 row)");
+  std::string realism = "clean";
+  app.add_option("--realism", realism,
+                 "Realism profile of the rendered sequences (docs/synthetic-benchmark.md)")
+      ->check(CLI::IsMember({"clean", "tum"}))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
+  std::printf("realism profile: %s\n", realism.c_str());
   std::ostringstream md;
+  md << "Realism profile `" << realism << "`.\n\n";
   md << "| preset | frames | lost | KFs | ATE RMSE (cm) | RPE (cm/s, deg/s) | extraction | tracking | "
         "waiting | "
         "total median | total / Y | Y (ms) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::printf("%-19s %6s %5s %4s %9s %16s %10s %9s %8s %12s %9s %7s\n", "preset", "frames", "lost", "KFs",
               "ATE cm", "RPE cm/s deg/s", "extract ms", "track ms", "wait ms", "total ms", "total/Y", "Y ms");
   for (const std::string& preset : presets) {
-    const fs::path dir = ensure_sequence(cache, preset, frames);
+    const fs::path dir = ensure_sequence(cache, preset, frames, 1, realism);
     const double y_apart = lrd::bench::sequence_yardstick_ms(dir);
     lrd::runner::RunOptions o;
     o.sequence = dir;

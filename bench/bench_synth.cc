@@ -1,10 +1,12 @@
 // Synthetic benchmark generation speed: render time per frame (single thread) split into its
 // stages, PNG encoding, and the whole `write_sequence` throughput on all cores.
 // Issue bar: a 900-frame sequence in under a minute on 2 cores.
+// Usage: bench_synth [PRESET] [FRAMES] [clean|tum]
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -23,9 +25,17 @@ double now() {
 int main(int argc, char** argv) {
   const std::string preset = argc > 1 ? argv[1] : "walking_xyz";
   const int frames = argc > 2 ? std::atoi(argv[2]) : 900;
+  // A third argument: the realism profile (clean, tum).
+  const std::string realism = argc > 3 ? argv[3] : "clean";
+  if (realism != "clean" && realism != "tum") {
+    std::fprintf(stderr, "bench_synth: unknown realism profile '%s' (valid: clean, tum)\n", realism.c_str());
+    return 1;
+  }
   lrd::synth::SynthOptions opt;
   opt.preset = preset;
   opt.frames = frames;
+  opt.realism = lrd::synth::realism_profile(realism);
+  fmt::print("realism profile: {}\n", realism);
   const lrd::synth::SyntheticSequence seq(opt);
 
   // Y timed frame by frame right after each frame's rendering and encoding (issue 23: the

@@ -16,12 +16,14 @@
 
 namespace lrd::bench {
 
-// cache/PRESET (or cache/PRESET_FRAMES for a prefix; _sN for map-file session N > 1), rendered
-// when absent.
+// cache/PRESET (or cache/PRESET_FRAMES for a prefix; _sN for map-file session N > 1; _tum for
+// the `tum` realism profile), rendered when absent.
 inline std::filesystem::path ensure_sequence(const std::filesystem::path& cache, const std::string& preset,
-                                             int frames, int session = 1) {
+                                             int frames, int session = 1,
+                                             const std::string& realism = "clean") {
   std::string name = frames > 0 ? fmt::format("{}_{}", preset, frames) : preset;
   if (session != 1) name += fmt::format("_s{}", session);
+  if (realism != "clean") name += "_" + realism;
   const std::filesystem::path dir = cache / name;
   // scene.ply came later than the first cached sequences: those are rendered again.
   if (std::filesystem::exists(dir / "associations.txt") && std::filesystem::exists(dir / "scene.ply"))
@@ -32,6 +34,7 @@ inline std::filesystem::path ensure_sequence(const std::filesystem::path& cache,
   o.seed = 1;
   o.frames = frames;
   o.session = session;
+  o.realism = lrd::synth::realism_profile(realism);
   const lrd::synth::SyntheticSequence seq(o);
   (void)lrd::synth::write_sequence(seq, dir);
   return dir;

@@ -16,7 +16,8 @@ bash scripts/fetch-web-assets.sh
 cmake --preset asan
 cmake --build --preset asan -j "$(nproc)"
 cmake --preset release
-# Every program but the tests (target lrd_programs): the asan build above runs those.
+# Every program but the tests (target lrd_programs): the asan build above runs those. Built before
+# the tests run: the Python tests render their input sequences with it (tests/python/cli.py).
 cmake --build --preset release -j "$(nproc)" --target lrd_programs
 ctest --preset asan
 cmake --preset tsan

@@ -2,7 +2,7 @@
 CLI: the report tests read it back. The results' fields are bench_dynamic's (bench/bench_dynamic.cc)."""
 import json
 
-from cli import lrdslam
+from cli import lrdslam, synth_input
 
 PRESETS = {"walking_xyz": 60, "static_xyz": 40}
 MODES = ["static", "geometric"]
@@ -18,7 +18,7 @@ def make_benchmark_folder(d):
     runs = []
     for preset, frames in PRESETS.items():
         seq = d / "sequences" / preset
-        lrdslam("synth", "--preset", preset, "--frames", frames, "--out", seq)
+        synth_input("--preset", preset, "--frames", frames, "--out", seq)
         for mode in MODES:
             out = bench / "runs" / preset / mode
             lrdslam("run", "--sequence", seq, "--mode", mode, "--deterministic", "--quiet", "--out", out)

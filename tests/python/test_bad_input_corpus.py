@@ -41,7 +41,7 @@ import cv2
 import numpy as np
 import pytest
 
-from cli import BIN, lrdslam
+from cli import BIN, synth_input
 
 FRAMES = 12
 TIMEOUT_S = 120  # a hang is a failure, not a stuck suite
@@ -724,7 +724,7 @@ RESULTS: dict = {}
 @pytest.fixture(scope="session")
 def base_sequence(tmp_path_factory):
     d = tmp_path_factory.mktemp("bad_input_base") / "walking_xyz"
-    lrdslam("synth", "--preset", "walking_xyz", "--frames", FRAMES, "--out", d)
+    synth_input("--preset", "walking_xyz", "--frames", FRAMES, "--out", d)
     frames = []
     for line in (d / "associations.txt").read_text().splitlines():
         if line.strip() and not line.startswith("#"):

@@ -15,13 +15,13 @@ import numpy as np
 import pytest
 import yaml
 
-from cli import lrdslam
+from cli import lrdslam, synth_input
 
 
 @pytest.fixture(scope="module")
 def walking(tmp_path_factory):
     d = tmp_path_factory.mktemp("seq") / "walking_xyz"
-    lrdslam("synth", "--preset", "walking_xyz", "--frames", 240, "--out", d)
+    synth_input("--preset", "walking_xyz", "--frames", 240, "--out", d)
     return d
 
 

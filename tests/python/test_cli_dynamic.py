@@ -7,20 +7,20 @@ from pathlib import Path
 
 import pytest
 
-from cli import lrdslam
+from cli import lrdslam, synth_input
 
 
 @pytest.fixture(scope="module")
 def walking(tmp_path_factory):
     d = tmp_path_factory.mktemp("seq") / "walking_xyz"
-    lrdslam("synth", "--preset", "walking_xyz", "--frames", 120, "--out", d)
+    synth_input("--preset", "walking_xyz", "--frames", 120, "--out", d)
     return d
 
 
 @pytest.fixture(scope="module")
 def pushed(tmp_path_factory):
     d = tmp_path_factory.mktemp("seq") / "walking_pushed"
-    lrdslam("synth", "--preset", "walking_pushed", "--frames", 180, "--out", d)
+    synth_input("--preset", "walking_pushed", "--frames", 180, "--out", d)
     return d
 
 
@@ -89,7 +89,7 @@ def test_dynamic_misuse_gives_one_line_error(walking, tmp_path, args, expected):
 
 def test_ground_truth_masks_need_the_mask_folder(tmp_path):
     seq = tmp_path / "static"
-    lrdslam("synth", "--preset", "static_xyz", "--frames", 10, "--out", seq)
+    synth_input("--preset", "static_xyz", "--frames", 10, "--out", seq)
     for p in (seq / "mask").glob("*.png"):
         p.unlink()
     (seq / "mask").rmdir()

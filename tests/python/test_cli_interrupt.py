@@ -8,7 +8,7 @@ import time
 
 import pytest
 
-from cli import BIN, lrdslam
+from cli import BIN, lrdslam, synth_input
 
 FRAMES = 150
 
@@ -16,7 +16,7 @@ FRAMES = 150
 @pytest.fixture(scope="module")
 def sequence(tmp_path_factory):
     d = tmp_path_factory.mktemp("seq") / "static_xyz"
-    lrdslam("synth", "--preset", "static_xyz", "--frames", FRAMES, "--out", d)
+    synth_input("--preset", "static_xyz", "--frames", FRAMES, "--out", d)
     return d
 
 

@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 
-from cli import lrdslam
+from cli import lrdslam, synth_input
 
 FRAMES = 180  # session 2 turns towards session 1's view over its first 120 frames
 
@@ -26,7 +26,7 @@ def digest(path):
 def sessions(tmp_path_factory):
     d = tmp_path_factory.mktemp("sessions")
     for n in (1, 2):
-        lrdslam("synth", "--preset", "static_xyz", "--session", n, "--frames", FRAMES, "--out", d / f"s{n}")
+        synth_input("--preset", "static_xyz", "--session", n, "--frames", FRAMES, "--out", d / f"s{n}")
     lrdslam("run", "--sequence", d / "s1", "--mode", "static", "--deterministic", "--quiet", "--out", d / "run1",
             "--save-map", d / "s1.lrdmap")
     return d
@@ -65,7 +65,7 @@ def test_walking_session_two_localizes_within_two_centimetres_in_full_mode(tmp_p
     # People walk through the part session 1 mapped; both sessions run `full` (FNet + geometry).
     d = tmp_path
     for n in (1, 2):
-        lrdslam("synth", "--preset", "walking_xyz", "--session", n, "--frames", 160, "--out", d / f"s{n}")
+        synth_input("--preset", "walking_xyz", "--session", n, "--frames", 160, "--out", d / f"s{n}")
     lrdslam("run", "--sequence", d / "s1", "--mode", "full", "--deterministic", "--quiet", "--out", d / "run1",
             "--save-map", d / "s1.lrdmap")
     out = d / "loc"
@@ -98,7 +98,7 @@ def test_a_second_session_closes_a_loop_into_the_old_map(tmp_path):
     # static_loop at 2.5x: one lap is 200 frames. Session 1 maps 130 frames of it; session 2 (from
     # 0.58 m aside) relocalizes in that part, maps the rest of the lap and comes back into it.
     for n, frames in ((1, 130), (2, 250)):
-        lrdslam("synth", "--preset", "static_loop", "--camera-speed", 2.5, "--session", n, "--frames", frames,
+        synth_input("--preset", "static_loop", "--camera-speed", 2.5, "--session", n, "--frames", frames,
                 "--out", tmp_path / f"s{n}")
     lrdslam("run", "--sequence", tmp_path / "s1", "--mode", "static", "--deterministic", "--quiet", "--out",
             tmp_path / "run1", "--save-map", tmp_path / "s1.lrdmap")

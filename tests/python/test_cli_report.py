@@ -10,7 +10,7 @@ import cv2
 import numpy as np
 import pytest
 
-from cli import lrdslam, page_data
+from cli import lrdslam, page_data, synth_input
 
 FRAMES = 60
 
@@ -22,7 +22,7 @@ def summary_of(out):
 @pytest.fixture(scope="module")
 def dense_run(tmp_path_factory):
     d = tmp_path_factory.mktemp("report")
-    lrdslam("synth", "--preset", "walking_xyz", "--frames", FRAMES, "--out", d / "seq")
+    synth_input("--preset", "walking_xyz", "--frames", FRAMES, "--out", d / "seq")
     r = lrdslam("run", "--sequence", d / "seq", "--mode", "geometric", "--dense", "--deterministic", "--quiet",
                 "--out", d / "out", "--report")
     assert f"wrote {d / 'out' / 'report.html'}" in r.stdout

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from cli import lrdslam
+from cli import lrdslam, synth_input
 
 FRAMES = 90
 
@@ -13,7 +13,7 @@ FRAMES = 90
 @pytest.fixture(scope="module")
 def sequence(tmp_path_factory):
     d = tmp_path_factory.mktemp("seq") / "static_xyz"
-    lrdslam("synth", "--preset", "static_xyz", "--frames", FRAMES, "--out", d)
+    synth_input("--preset", "static_xyz", "--frames", FRAMES, "--out", d)
     return d
 
 

@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 import pytest
 
-from cli import lrdslam
+from cli import lrdslam, synth_input
 
 ROOT = Path(__file__).resolve().parents[2]
 SHARED = Path(os.environ.get("LRD_SHARED_DIR") or ROOT.parent / "shared")
@@ -19,7 +19,7 @@ ESPNET = SHARED / "models/espnetv2_voc/espnetv2_s2.0_voc_384x288.onnx"
 @pytest.fixture(scope="module")
 def walking(tmp_path_factory):
     d = tmp_path_factory.mktemp("seq") / "walking_xyz"
-    lrdslam("synth", "--preset", "walking_xyz", "--frames", 40, "--out", d)
+    synth_input("--preset", "walking_xyz", "--frames", 40, "--out", d)
     return d
 
 

@@ -105,3 +105,43 @@ def test_export_voc_layout_labels_and_split(tmp_path):
 def test_export_voc_refuses_evaluation_seeds(tmp_path):
     out = run("synth", "--export-voc", str(tmp_path / "v"), "--images", "2", "--seed", "1")
     assert out.returncode == 1 and "reserved for evaluation" in out.stderr
+
+
+def test_realism_tum_records_its_effects_and_the_users_calibration(tmp_path):
+    seq = tmp_path / "seq"
+    out = run("synth", "--preset", "walking_xyz", "--frames", "3", "--realism", "tum",
+              "--realism-off", "rolling_shutter,motion_blur", "--out", str(seq))
+    assert out.returncode == 0, out.stderr
+    meta = json.loads((seq / "sequence.json").read_text())
+    realism = meta["realism"]
+    assert realism["profile"] == "tum"
+    assert realism["effects"]["rolling_shutter"] is False and realism["effects"]["motion_blur"] is False
+    assert all(on for name, on in realism["effects"].items() if name not in ("rolling_shutter", "motion_blur"))
+    assert realism["rolling_shutter"]["readout_s"] == pytest.approx(0.028)
+    # settings.yaml: the lens distortion, and focal lengths 0.6 % / -0.4 % off the rendering camera.
+    settings = (seq / "settings.yaml").read_text()
+    values = dict(l.split(": ") for l in settings.splitlines() if l.startswith("Camera.") and ": " in l)
+    assert float(values["Camera.k1"]) == pytest.approx(0.2312 - 0.02)
+    assert float(values["Camera.fx"]) == pytest.approx(535.4 * 1.006)
+    # Ground truth at the motion-capture rate, covering the images.
+    gt = [float(l.split()[0]) for l in (seq / "groundtruth.txt").read_text().splitlines() if not l.startswith("#")]
+    rgb = [float(l.split()[0]) for l in (seq / "rgb.txt").read_text().splitlines() if not l.startswith("#")]
+    assert np.allclose(np.diff(gt), 0.01, rtol=0, atol=2e-6) and gt[0] < rgb[0] and gt[-1] > rgb[-1]
+    # Depth in the driver's whole millimetres.
+    d = cv2.imread(str(seq / "depth" / f"{sorted(os.listdir(seq / 'depth'))[0]}"), cv2.IMREAD_UNCHANGED)
+    assert d.max() > 0 and np.all(d % 5 == 0)
+    # The clean profile writes no realism record and a distortion-free calibration.
+    clean = tmp_path / "clean"
+    assert run("synth", "--preset", "walking_xyz", "--frames", "1", "--out", str(clean)).returncode == 0
+    assert "realism" not in json.loads((clean / "sequence.json").read_text())
+    assert "Camera.k1: 0\n" in (clean / "settings.yaml").read_text()
+
+
+def test_realism_errors_are_one_line(tmp_path):
+    out = run("synth", "--preset", "walking_xyz", "--frames", "1", "--realism", "tum", "--realism-off", "blurr",
+              "--out", str(tmp_path / "x"))
+    assert out.returncode == 1
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1 and "blurr" in lines[0] and "rolling_shutter" in lines[0]
+    out = run("synth", "--preset", "walking_xyz", "--realism", "kinect2", "--out", str(tmp_path / "y"))
+    assert out.returncode != 0 and "kinect2" in out.stderr

@@ -6,7 +6,7 @@ import subprocess
 
 import pytest
 
-from cli import BIN, lrdslam
+from cli import BIN, lrdslam, synth_input
 
 FRAMES = 60
 
@@ -14,7 +14,7 @@ FRAMES = 60
 @pytest.fixture(scope="module")
 def sequence(tmp_path_factory):
     d = tmp_path_factory.mktemp("seq") / "walking_xyz"
-    lrdslam("synth", "--preset", "walking_xyz", "--frames", FRAMES, "--out", d)
+    synth_input("--preset", "walking_xyz", "--frames", FRAMES, "--out", d)
     return d
 
 

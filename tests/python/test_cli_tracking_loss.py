@@ -10,7 +10,7 @@ import cv2
 import numpy as np
 import pytest
 
-from cli import lrdslam
+from cli import lrdslam, synth_input
 
 FRAMES, FROM, TO = 240, 90, 150  # two seconds of trouble at 30 Hz
 
@@ -22,10 +22,10 @@ def associations(folder):
 @pytest.fixture(scope="module")
 def bases(tmp_path_factory):
     d = tmp_path_factory.mktemp("loss")
-    lrdslam("synth", "--preset", "static_xyz", "--frames", FRAMES, "--out", d / "static_xyz")
-    lrdslam("synth", "--preset", "walking_xyz", "--frames", FRAMES, "--out", d / "walking_xyz")
-    lrdslam("synth", "--preset", "static_xyz", "--frames", FRAMES, "--blank", f"{FROM}:{TO - FROM}",
-            "--out", d / "covered")
+    synth_input("--preset", "static_xyz", "--frames", FRAMES, "--out", d / "static_xyz")
+    synth_input("--preset", "walking_xyz", "--frames", FRAMES, "--out", d / "walking_xyz")
+    synth_input("--preset", "static_xyz", "--frames", FRAMES, "--blank", f"{FROM}:{TO - FROM}",
+                "--out", d / "covered")
     return d
 
 

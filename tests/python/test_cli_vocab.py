@@ -4,13 +4,13 @@ import json
 
 import pytest
 
-from cli import lrdslam
+from cli import lrdslam, synth_input
 
 
 @pytest.fixture(scope="module")
 def images(tmp_path_factory):
     d = tmp_path_factory.mktemp("voc")
-    lrdslam("synth", "--export-voc", d, "--images", 6, "--seed", 7000)
+    synth_input("--export-voc", d, "--images", 6, "--seed", 7000)
     return d / "JPEGImages"
 
 

@@ -11,7 +11,7 @@ import cv2
 import numpy as np
 import pytest
 
-from cli import lrdslam
+from cli import lrdslam, synth_input
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 WINDOW = (1000, 16000)
@@ -41,7 +41,7 @@ def console_messages(stderr):
 @pytest.fixture(scope="module")
 def page(tmp_path_factory):
     d = tmp_path_factory.mktemp("browser")
-    lrdslam("synth", "--preset", "walking_xyz", "--frames", 50, "--out", d / "seq")
+    synth_input("--preset", "walking_xyz", "--frames", 50, "--out", d / "seq")
     lrdslam("run", "--sequence", d / "seq", "--mode", "geometric", "--dense", "--quiet", "--out", d / "out", "--report")
     dom, shot = open_in_chromium(d, d / "out" / "report.html")
     return d, dom, shot

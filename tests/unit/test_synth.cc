@@ -38,9 +38,11 @@ double median(std::vector<double> v) {
 }  // namespace
 
 TEST(SynthPresets, EveryPresetRendersPlausibleFrames) {
+  // One texture library for all presets: loading it is most of a preset's cost under ASan.
+  const auto textures = SyntheticSequence::load_textures();
   for (const auto& spec : lrd::synth::preset_specs()) {
     SCOPED_TRACE(spec.name);
-    const SyntheticSequence seq(options(spec.name, 301));
+    const SyntheticSequence seq(options(spec.name, 301), textures);
     EXPECT_EQ(seq.size(), 301);
     double dynamic = 0.0;
     for (int i : {0, 150, 300}) {

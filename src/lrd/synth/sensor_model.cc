@@ -5,56 +5,14 @@
 #include <opencv2/imgproc.hpp>
 
 namespace lrd::synth {
-namespace {
-
-std::uint64_t splitmix(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
-constexpr std::size_t kTableBits = 22;
-constexpr std::size_t kTableMask = (std::size_t{1} << kTableBits) - 1;
-
-// A frame's view into the noise tables: value i of stream s in frame f is table[(offset + i) & mask]
-// with offset = hash(seed, f, s). Same (seed, frame, pixel, stream), same value: the static and
-// the full render of a frame share their noise.
-struct FrameNoise {
-  const std::vector<float>& table;
-  std::size_t offset;
-  FrameNoise(const std::vector<float>& t, std::uint64_t seed, int frame, std::uint64_t stream)
-      : table(t),
-        offset(splitmix(seed ^ splitmix(static_cast<std::uint64_t>(frame) * 0x100000001B3ull + stream)) &
-               kTableMask) {}
-  [[nodiscard]] float operator()(std::size_t i) const { return table[(offset + i) & kTableMask]; }
-};
-
-}  // namespace
 
 SensorModel::SensorModel(const camera::PinholeCamera& camera, SensorParams params, std::uint64_t seed)
-    : cam_(camera), params_(params), seed_(seed) {
-  // Tables of N(0,1) (Box-Muller) and U[0,1) values, filled once: per-pixel hashing is several
-  // times slower and the renderer must produce a 900-frame sequence in under a minute.
-  gaussian_.resize(kTableMask + 1);
-  uniform_.resize(kTableMask + 1);
-  for (std::size_t i = 0; i <= kTableMask; i += 2) {
-    const std::uint64_t h = splitmix(seed ^ (i * 0xD6E8FEB86659FD93ull));
-    const double u1 = (static_cast<double>(h >> 40) + 1.0) * 0x1.0p-24,
-                 u2 = static_cast<double>(h & 0xFFFFFF) * 0x1.0p-24;
-    const double r = std::sqrt(-2.0 * std::log(u1));
-    gaussian_[i] = static_cast<float>(r * std::cos(2.0 * M_PI * u2));
-    gaussian_[i + 1] = static_cast<float>(r * std::sin(2.0 * M_PI * u2));
-    const std::uint64_t g = splitmix(h);
-    uniform_[i] = static_cast<float>(g >> 40) * 0x1.0p-24f;
-    uniform_[i + 1] = static_cast<float>(g & 0xFFFFFF) * 0x1.0p-24f;
-  }
-}
+    : cam_(camera), params_(params), noise_(seed) {}
 
 cv::Mat SensorModel::depth_image(const RenderBuffers& ideal, int frame) const {
   const int W = ideal.depth.cols, H = ideal.depth.rows;
   const double fb = cam_.fx * params_.baseline;
-  const FrameNoise noise(gaussian_, seed_, frame, 1), drop(uniform_, seed_, frame, 2);
+  const auto noise = noise_.gaussian(frame, 1), drop = noise_.uniform(frame, 2);
   cv::Mat out(H, W, CV_16U, cv::Scalar(0));
   for (int y = 0; y < H; ++y) {
     const float* z = ideal.depth.ptr<float>(y);
@@ -102,7 +60,7 @@ cv::Mat SensorModel::rgb_image(const cv::Mat& ideal_bgr, int frame) const {
   cv::Mat blurred;
   cv::GaussianBlur(ideal_bgr, blurred, cv::Size(5, 5), params_.rgb_blur_sigma, params_.rgb_blur_sigma,
                    cv::BORDER_REFLECT101);
-  const FrameNoise noise(gaussian_, seed_, frame, 3);
+  const auto noise = noise_.gaussian(frame, 3);
   const int W = blurred.cols;
   const auto sigma = static_cast<float>(params_.rgb_noise_sigma);
   for (int y = 0; y < blurred.rows; ++y) {

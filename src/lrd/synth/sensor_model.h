@@ -8,9 +8,9 @@
 // the same noise as the real one wherever the actors are not.
 #include <cstdint>
 #include <opencv2/core.hpp>
-#include <vector>
 
 #include "lrd/camera/pinhole_camera.h"
+#include "lrd/synth/noise_table.h"
 #include "lrd/synth/rasterizer.h"
 
 namespace lrd::synth {
@@ -36,13 +36,12 @@ class SensorModel {
   // Blurred, noisy 8-bit BGR image from an ideal (or motion-blurred) render.
   [[nodiscard]] cv::Mat rgb_image(const cv::Mat& ideal_bgr, int frame) const;
   [[nodiscard]] const SensorParams& params() const { return params_; }
+  [[nodiscard]] const NoiseTable& noise() const { return noise_; }
 
  private:
   camera::PinholeCamera cam_;
   SensorParams params_;
-  std::uint64_t seed_;
-  std::vector<float> gaussian_;
-  std::vector<float> uniform_;
+  NoiseTable noise_;
 };
 
 }  // namespace lrd::synth

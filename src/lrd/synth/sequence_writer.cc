@@ -13,6 +13,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "lrd/dense/ply_io.h"
+#include "lrd/eval/motion_statistics.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/util/error.h"
 
@@ -131,6 +132,14 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
   meta["frames"] = n;
   meta["fps"] = seq.camera().fps;
   meta["motion_blur"] = seq.options().motion_blur;
+  if (!seq.options().realism.is_clean()) {
+    meta["realism"] = realism_json(seq.options().realism);
+    const auto m = eval::motion_statistics(seq.ground_truth());
+    meta["realism"]["camera_motion"] = {{"duration_s", m.duration},
+                                        {"length_m", m.length},
+                                        {"mean_speed_m_s", m.mean_speed},
+                                        {"mean_angular_speed_deg_s", m.mean_angular_speed}};
+  }
   if (seq.options().camera_speed != 1.0) meta["camera_speed"] = seq.options().camera_speed;
   meta["session"] = seq.options().session;
   if (seq.options().blank_from >= 0)

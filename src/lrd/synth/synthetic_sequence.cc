@@ -42,6 +42,10 @@ SyntheticSequence::SyntheticSequence(const SynthOptions& options,
   script_ = build_scene_script(spec_, *textures_, options.seed, camera_.fps, options.session);
   rasterizer_ = std::make_unique<Rasterizer>(camera_, *textures_);
   sensor_ = std::make_unique<SensorModel>(camera_, SensorParams{}, options.seed);
+  calibration_ = calibrated_camera(camera_, options.realism);
+  if (!options.realism.is_clean())
+    realistic_ = std::make_unique<RealisticCamera>(camera_, options.realism, sensor_->params().rgb_blur_sigma,
+                                                   sensor_->noise());
 }
 
 SyntheticSequence::~SyntheticSequence() = default;
@@ -72,10 +76,24 @@ Eigen::Isometry3d SyntheticSequence::pose(int i) const {
 }
 
 io::Trajectory SyntheticSequence::ground_truth() const {
+  const RealismParams& r = options_.realism;
+  if (r.gt_noise || r.gt_time_offset || r.gt_mocap_rate) return motion_capture();
   io::Trajectory gt;
   gt.reserve(static_cast<std::size_t>(frames_));
   for (int i = 0; i < frames_; ++i) gt.push_back({timestamp(i), pose(i)});
   return gt;
+}
+
+void SyntheticSequence::render_passes(double t, RenderBuffers& static_pass, RenderBuffers& full_pass) const {
+  const Eigen::Isometry3f T_wc = camera_pose(t).cast<float>();
+  static_pass = rasterizer_->make_buffers();
+  rasterizer_->draw(room_.triangles(), T_wc, static_pass);
+  full_pass = static_pass.clone();
+  TriangleSoup actors;
+  for (const auto& a : script_.actors) a->add_geometry(t, actors);
+  rasterizer_->draw(actors.triangles(), T_wc, full_pass);
+  Rasterizer::finish(static_pass);
+  Rasterizer::finish(full_pass);
 }
 
 SynthFrame SyntheticSequence::render(int i, Views views) const {
@@ -86,21 +104,10 @@ SynthFrame SyntheticSequence::render(int i, Views views) const {
   f.depth_timestamp = depth_timestamp(i);
   const double t = f.timestamp - kFirstTimestamp;
   f.pose = camera_pose(t);
-
-  auto render_at = [&](double time, RenderBuffers& static_pass, RenderBuffers& full_pass) {
-    const Eigen::Isometry3f T_wc = camera_pose(time).cast<float>();
-    static_pass = rasterizer_->make_buffers();
-    rasterizer_->draw(room_.triangles(), T_wc, static_pass);
-    full_pass = static_pass.clone();
-    TriangleSoup actors;
-    for (const auto& a : script_.actors) a->add_geometry(time, actors);
-    rasterizer_->draw(actors.triangles(), T_wc, full_pass);
-    Rasterizer::finish(static_pass);
-    Rasterizer::finish(full_pass);
-  };
+  if (realistic_) return render_realistic(std::move(f), views);
 
   RenderBuffers static_pass, full_pass;
-  render_at(t, static_pass, full_pass);
+  render_passes(t, static_pass, full_pass);
   cv::Mat color = full_pass.color, static_color = static_pass.color;
   if (options_.motion_blur && options_.blur_subframes > 1) {
     // Average colour over the exposure; depth and masks stay those of the frame's instant.
@@ -109,7 +116,7 @@ SynthFrame SyntheticSequence::render(int i, Views views) const {
       const double tk =
           t + options_.exposure * (static_cast<double>(k) / (options_.blur_subframes - 1) - 0.5);
       RenderBuffers s, d;
-      render_at(tk, s, d);
+      render_passes(tk, s, d);
       cv::Mat tmp;
       d.color.convertTo(tmp, CV_32FC3);
       acc += tmp;

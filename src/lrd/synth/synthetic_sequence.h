@@ -12,6 +12,8 @@
 #include "lrd/io/trajectory.h"
 #include "lrd/synth/presets.h"
 #include "lrd/synth/rasterizer.h"
+#include "lrd/synth/realism.h"
+#include "lrd/synth/realistic_camera.h"
 #include "lrd/synth/sensor_model.h"
 #include "lrd/synth/texture_library.h"
 
@@ -21,7 +23,7 @@ struct SynthOptions {
   std::string preset = "walking_xyz";
   std::uint64_t seed = 1;
   int frames = -1;           // < 0: the preset's default length
-  bool motion_blur = false;  // average sub-frames over the exposure
+  bool motion_blur = false;  // average sub-frames over the exposure (the clean profile's blur)
   int blur_subframes = 5;
   double exposure = 1.0 / 60.0;  // s
   // Frames [blank_from, blank_from + blank_count) are black with no depth (a covered lens): the
@@ -34,6 +36,8 @@ struct SynthOptions {
   // Map-file sessions (issue 20): 1 is the preset's camera path; 2 and 3 see the same room and
   // people, with the same seed, from another standpoint (CameraMotion), in the same world frame.
   int session = 1;
+  // `--realism` (issue 21): `clean` renders as always; `tum` as a Kinect v1 in TUM's recordings.
+  RealismParams realism;
   [[nodiscard]] bool blanked(int i) const {
     return blank_from >= 0 && i >= blank_from && i < blank_from + blank_count;
   }
@@ -61,7 +65,11 @@ class SyntheticSequence {
 
   [[nodiscard]] int size() const { return frames_; }
   [[nodiscard]] const PresetSpec& spec() const { return spec_; }
-  [[nodiscard]] const camera::PinholeCamera& camera() const { return camera_; }
+  // The calibration a user of the sequence has (settings.yaml): under the `tum` profile, the lens
+  // distortion rendered and a small calibration error; otherwise the camera that rendered it.
+  [[nodiscard]] const camera::PinholeCamera& camera() const { return calibration_; }
+  // The pinhole camera the renderer draws with.
+  [[nodiscard]] const camera::PinholeCamera& true_camera() const { return camera_; }
   [[nodiscard]] const SynthOptions& options() const { return options_; }
   [[nodiscard]] const TextureLibrary& textures() const { return *textures_; }
   [[nodiscard]] std::vector<std::string> actor_descriptions() const;
@@ -85,15 +93,23 @@ class SyntheticSequence {
 
  private:
   [[nodiscard]] Eigen::Isometry3d camera_pose(double t) const;  // t: seconds from the first frame
+  // The room alone and the room with the actors, seen at t (seconds from the first frame).
+  void render_passes(double t, RenderBuffers& static_pass, RenderBuffers& full_pass) const;
+  // render() under a realism profile other than clean (synthetic_sequence_realism.cc).
+  [[nodiscard]] SynthFrame render_realistic(SynthFrame f, Views views) const;
+  // ground_truth() with the motion-capture effects of the realism profile.
+  [[nodiscard]] io::Trajectory motion_capture() const;
   SynthOptions options_;
   const PresetSpec& spec_;
   int frames_;
   camera::PinholeCamera camera_;
+  camera::PinholeCamera calibration_;
   std::shared_ptr<const TextureLibrary> textures_;
   TriangleSoup room_;
   SceneScript script_;
   std::unique_ptr<Rasterizer> rasterizer_;
   std::unique_ptr<SensorModel> sensor_;
+  std::unique_ptr<RealisticCamera> realistic_;  // null under the clean profile
 };
 
 }  // namespace lrd::synth

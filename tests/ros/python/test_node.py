@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import yaml
 
-from cli import lrdslam
+from cli import lrdslam, synth_input
 from rosenv import Node, RosMaster, play
 
 FRAMES = 150
@@ -35,7 +35,7 @@ def master(tmp_path_factory):
 @pytest.fixture(scope="module")
 def sequence(tmp_path_factory):
     d = tmp_path_factory.mktemp("nodeseq")
-    lrdslam("synth", "--preset", "walking_xyz", "--frames", FRAMES, "--out", d / "seq", "--bag", d / "seq.bag")
+    synth_input("--preset", "walking_xyz", "--frames", FRAMES, "--out", d / "seq", "--bag", d / "seq.bag")
     return d / "seq", d / "seq.bag"
 
 
@@ -271,8 +271,8 @@ def test_without_a_camera_frames_wait_and_are_counted(master, tmp_path):
 def test_after_a_loop_closure_the_path_is_corrected_and_matches_the_saved_trajectory(master, tmp_path):
     # static_loop with the camera 2.5x faster: its two laps in 400 frames, the loop near frame 210.
     d = tmp_path / "loop"
-    lrdslam("synth", "--preset", "static_loop", "--camera-speed", 2.5, "--frames", 250, "--out", d,
-            "--bag", tmp_path / "loop.bag")
+    synth_input("--preset", "static_loop", "--camera-speed", 2.5, "--frames", 250, "--out", d, "--bag",
+                tmp_path / "loop.bag")
     try:
         recorder, summary, out, node = run_node_on_bag(master, tmp_path / "loop.bag", tmp_path, mode="static",
                                                        dense="true")
