@@ -24,8 +24,9 @@ void distortion_maps(const camera::PinholeCamera& cam, const camera::Distortion&
   const cv::Matx33d K(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
   std::vector<cv::Point2f> ideal;
   // Iterated to convergence: the Kinect lens's distortion is strong in the corners.
-  cv::undistortPoints(pixels, ideal, K, cv::Mat(cv::Matx<double, 1, 5>(d.k1, d.k2, d.p1, d.p2, d.k3)), cv::noArray(),
-                      K, cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-6));
+  cv::undistortPoints(pixels, ideal, K, cv::Mat(cv::Matx<double, 1, 5>(d.k1, d.k2, d.p1, d.p2, d.k3)),
+                      cv::noArray(), K,
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-6));
   map_x.create(cam.height, cam.width, CV_32F);
   map_y.create(cam.height, cam.width, CV_32F);
   for (int y = 0; y < cam.height; ++y)
