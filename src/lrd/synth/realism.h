@@ -28,9 +28,9 @@ struct RealismParams {
   // Rolling shutter: rows read out top to bottom over `readout_time`, each at its own instant.
   bool rolling_shutter = false;
   double readout_time = 0.028;  // s (Kerl et al. 2015, TUM's rolling-shutter simulation)
-  // Sub-frame renders over the span a frame integrates: at most this many, this far apart.
-  double subframe_spacing = 0.004;  // s
-  int max_subframes = 10;
+  // Sub-frame renders over the span a frame integrates: at most this many, about this far apart.
+  double subframe_spacing = 0.006;  // s
+  int max_subframes = 9;
 
   // Auto white balance: channel gains pulled part way to grey-world from each view's mean colour,
   // so the colours of the same wall drift as the view changes.

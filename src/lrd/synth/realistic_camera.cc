@@ -106,11 +106,14 @@ RealisticCamera::ShutterPlan RealisticCamera::shutter(double t, const Exposure& 
   const double width = params_.motion_blur ? exposure.time : 0.0;
   const double t0 = t - 0.5 * (readout + width), t1 = t + 0.5 * (readout + width);
   ShutterPlan plan;
-  const int n = t1 - t0 < 1e-9
-                    ? 1
-                    : std::clamp(static_cast<int>(std::ceil((t1 - t0) / params_.subframe_spacing)) + 1, 2,
-                                 std::max(2, params_.max_subframes));
-  for (int k = 0; k < n; ++k) plan.times.push_back(n == 1 ? t : t0 + (t1 - t0) * k / (n - 1));
+  // An odd count, so the middle instant is the frame's own and its render is reused.
+  int n = 1;
+  if (t1 - t0 >= 1e-9) {
+    n = std::clamp(static_cast<int>(std::ceil((t1 - t0) / params_.subframe_spacing)) + 1, 3,
+                   std::max(3, params_.max_subframes));
+    if (n % 2 == 0) --n;
+  }
+  for (int k = 0; k < n; ++k) plan.times.push_back(2 * k == n - 1 ? t : t0 + (t1 - t0) * k / (n - 1));
   plan.row_weights = cv::Mat(H, n, CV_32F, cv::Scalar(0));
   // Light between two renders is taken as varying linearly; a row's exposure window is averaged
   // over 16 points of it.

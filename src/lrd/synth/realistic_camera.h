@@ -31,8 +31,8 @@ class RealisticCamera {
   // The exposure control's choice for a view, from its render at the frame's instant (8-bit BGR).
   [[nodiscard]] Exposure expose(const cv::Mat& bgr) const;
 
-  // The instants to render for a frame whose middle row is exposed around t, and each row's
-  // weights over them (rows x instants, CV_32F, rows sum to 1).
+  // The instants to render for a frame whose middle row is exposed around t (an odd number, t
+  // in the middle), and each row's weights over them (rows x instants, CV_32F, rows sum to 1).
   struct ShutterPlan {
     std::vector<double> times;
     cv::Mat row_weights;

@@ -26,6 +26,11 @@ SynthFrame SyntheticSequence::render_realistic(SynthFrame f, Views views) const 
     static_colour = {static_pass.color};
   } else {
     for (double tk : plan.times) {
+      if (tk == t) {  // the middle instant: the frame's own render
+        full_colour.push_back(full_pass.color);
+        static_colour.push_back(static_pass.color);
+        continue;
+      }
       RenderBuffers s, d;
       render_passes(tk, s, d);
       full_colour.push_back(d.color);
