@@ -7,7 +7,6 @@ the occupancy map and 2-D grid (issue 25): OctoMap and map_server files, judged 
 import json
 import re
 import shutil
-import struct
 import subprocess
 
 import cv2

@@ -3,7 +3,6 @@ features on people takes the error from decimetres to millimetres, the geometry 
 pushed object a semantic mask cannot know, the flags are scored against ground truth, the
 deterministic dynamic modes repeat byte for byte, and misuse gets a one-line error."""
 import json
-from pathlib import Path
 
 import pytest
 

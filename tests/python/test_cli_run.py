@@ -1,7 +1,6 @@
 """`lrdslam run` end to end: outputs, accuracy on a static synthetic sequence, byte-identical
 deterministic runs, and one-line errors for bad input."""
 import json
-from pathlib import Path
 
 import pytest
 
