@@ -13,8 +13,6 @@ struct RealismOptions {
 
   // `needs`: the option the realism flags only make sense with (run's --synth), or null.
   void add_to(CLI::App* cmd, CLI::Option* needs) {
-    std::string effects;
-    for (const auto& e : synth::realism_effects()) effects += (effects.empty() ? "" : ", ") + e;
     auto* p = cmd->add_option(
                      "--realism", profile,
                      "Realism profile of the rendered frames: clean (the renderer's own), tum (as a Kinect "
@@ -22,8 +20,9 @@ struct RealismOptions {
                      "registration, motion-capture ground truth; docs/synthetic-benchmark.md)")
                   ->check(CLI::IsMember({"clean", "tum"}))
                   ->capture_default_str();
-    auto* o = cmd->add_option("--realism-off", off,
-                              "With --realism tum: effects to leave out, comma-separated (" + effects + ")");
+    auto* o = cmd->add_option(
+        "--realism-off", off,
+        "With --realism tum: effects to leave out, comma-separated (" + synth::realism_effect_list() + ")");
     if (needs != nullptr) {
       p->needs(needs);
       o->needs(needs);

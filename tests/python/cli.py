@@ -7,12 +7,16 @@ import subprocess
 BIN = os.environ.get("LRDSLAM_BIN", "build/release/bin/lrdslam")
 
 
-def lrdslam(*args, check=True):
-    """Runs `lrdslam ARGS`; with check, a non-zero exit fails the test with its output."""
-    r = subprocess.run([BIN, *map(str, args)], capture_output=True, text=True)
+def _run(binary, args, check):
+    r = subprocess.run([binary, *map(str, args)], capture_output=True, text=True)
     if check and r.returncode != 0:
         raise AssertionError(f"lrdslam {' '.join(map(str, args))} failed:\n{r.stdout}\n{r.stderr}")
     return r
+
+
+def lrdslam(*args, check=True):
+    """Runs `lrdslam ARGS`; with check, a non-zero exit fails the test with its output."""
+    return _run(BIN, args, check)
 
 
 def _fixture_bin():
@@ -28,10 +32,7 @@ def _fixture_bin():
 
 def synth_input(*args):
     """`lrdslam synth ARGS` for a test's input sequence (not for testing synth itself)."""
-    r = subprocess.run([_fixture_bin(), "synth", *map(str, args)], capture_output=True, text=True)
-    if r.returncode != 0:
-        raise AssertionError(f"lrdslam synth {' '.join(map(str, args))} failed:\n{r.stdout}\n{r.stderr}")
-    return r
+    return _run(_fixture_bin(), ("synth", *args), True)
 
 
 def page_data(html):

@@ -33,12 +33,6 @@ const std::vector<std::pair<std::string, bool RealismParams::*>>& effect_switche
   return switches;
 }
 
-std::string effect_list() {
-  std::string names;
-  for (const auto& e : realism_effects()) names += (names.empty() ? "" : ", ") + e;
-  return names;
-}
-
 }  // namespace
 
 bool RealismParams::is_clean() const {
@@ -54,6 +48,12 @@ RealismParams realism_profile(std::string_view name) {
   p.profile = "tum";
   for (const auto& e : effect_switches()) p.*(e.second) = true;
   return p;
+}
+
+std::string realism_effect_list() {
+  std::string names;
+  for (const auto& e : realism_effects()) names += (names.empty() ? "" : ", ") + e;
+  return names;
 }
 
 const std::vector<std::string>& realism_effects() {
@@ -74,7 +74,8 @@ void disable_realism_effects(RealismParams& params, std::string_view comma_separ
     const auto it =
         std::find_if(switches.begin(), switches.end(), [&](const auto& e) { return e.first == name; });
     if (it == switches.end())
-      throw Error("synth: --realism-off: unknown effect '" + name + "' (valid: " + effect_list() + ")");
+      throw Error("synth: --realism-off: unknown effect '" + name + "' (valid: " + realism_effect_list() +
+                  ")");
     params.*(it->second) = false;
     from = comma + 1;
   }

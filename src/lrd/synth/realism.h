@@ -77,17 +77,14 @@ struct RealismParams {
   double gt_rate = 100.0;  // Hz
 
   [[nodiscard]] bool is_clean() const;
-  // Any effect that needs sub-frame renders.
-  [[nodiscard]] bool integrates_time() const { return motion_blur || rolling_shutter; }
-  [[nodiscard]] bool develops_colour() const {
-    return auto_exposure || white_balance || vignetting || bayer || sensor_noise || distortion;
-  }
 };
 
 // `clean` or `tum`; anything else is an error naming the valid profiles.
 [[nodiscard]] RealismParams realism_profile(std::string_view name);
 // The effects `--realism-off` accepts, in the order the docs list them.
 [[nodiscard]] const std::vector<std::string>& realism_effects();
+// The same as one comma-separated line, for help texts and errors.
+[[nodiscard]] std::string realism_effect_list();
 // Turns off the comma-separated effects (an unknown name is an error listing the valid ones).
 void disable_realism_effects(RealismParams& params, std::string_view comma_separated);
 // What sequence.json records: the profile, every effect's switch and its parameters.

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "lrd/features/keypoint_undistorter.h"
 
 namespace lrd::synth {
 namespace {
@@ -12,27 +13,25 @@ constexpr double kGamma = 2.2;
 // Noise streams (SensorModel uses 1-3).
 constexpr std::uint64_t kShotStream = 21, kReadStream = 22, kHoleStream = 23;
 
-// For every pixel of the distorted image, the pinhole pixel it shows (OpenCV's undistortPoints
-// inverts the distortion model), shifted by `shift` in the distorted image first.
+// For every pixel of the distorted image, the pinhole pixel it shows (the tracker's keypoint
+// undistortion, iterated to convergence), shifted by `shift` in the distorted image first.
 void distortion_maps(const camera::PinholeCamera& cam, const camera::Distortion& d, cv::Point2f shift,
                      cv::Mat& map_x, cv::Mat& map_y) {
-  std::vector<cv::Point2f> pixels;
+  std::vector<cv::KeyPoint> pixels;
   pixels.reserve(static_cast<std::size_t>(cam.width) * static_cast<std::size_t>(cam.height));
   for (int y = 0; y < cam.height; ++y)
     for (int x = 0; x < cam.width; ++x)
-      pixels.emplace_back(static_cast<float>(x) + shift.x, static_cast<float>(y) + shift.y);
-  const cv::Matx33d K(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
-  std::vector<cv::Point2f> ideal;
-  // Iterated to convergence: the Kinect lens's distortion is strong in the corners.
-  cv::undistortPoints(pixels, ideal, K, cv::Mat(cv::Matx<double, 1, 5>(d.k1, d.k2, d.p1, d.p2, d.k3)),
-                      cv::noArray(), K,
-                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-6));
+      pixels.emplace_back(static_cast<float>(x) + shift.x, static_cast<float>(y) + shift.y, 1.0f);
+  camera::PinholeCamera lens = cam;
+  lens.distortion = d;
+  const std::vector<cv::KeyPoint> ideal = features::KeypointUndistorter(lens).undistort(pixels);
   map_x.create(cam.height, cam.width, CV_32F);
   map_y.create(cam.height, cam.width, CV_32F);
   for (int y = 0; y < cam.height; ++y)
     for (int x = 0; x < cam.width; ++x) {
       const cv::Point2f& p = ideal[static_cast<std::size_t>(y) * static_cast<std::size_t>(cam.width) +
-                                   static_cast<std::size_t>(x)];
+                                   static_cast<std::size_t>(x)]
+                                 .pt;
       map_x.at<float>(y, x) = p.x;
       map_y.at<float>(y, x) = p.y;
     }
@@ -46,21 +45,25 @@ RealisticCamera::RealisticCamera(const camera::PinholeCamera& truth, RealismPara
   const camera::Distortion none{};
   const camera::Distortion& lens = params_.distortion ? params_.rendered_distortion : none;
   distortion_maps(truth_, lens, {0.0f, 0.0f}, distort_x_, distort_y_);
-  const cv::Point2f registration = params_.depth_registration
-                                       ? cv::Point2f(static_cast<float>(params_.registration_error_x),
-                                                     static_cast<float>(params_.registration_error_y))
-                                       : cv::Point2f(0.0f, 0.0f);
-  distortion_maps(truth_, lens, registration, depth_x_, depth_y_);
+  if (params_.depth_registration) {
+    distortion_maps(truth_, lens,
+                    cv::Point2f(static_cast<float>(params_.registration_error_x),
+                                static_cast<float>(params_.registration_error_y)),
+                    depth_x_, depth_y_);
+  } else {
+    depth_x_ = distort_x_;  // the same maps, shared
+    depth_y_ = distort_y_;
+  }
   // Vignetting: a radial fall-off, 1 at the principal point, 1 - loss at the farthest corner.
   vignette_.create(truth_.height, truth_.width, CV_32F);
-  const double r_corner2 =
+  const double r_corner =
       std::max({std::hypot(truth_.cx, truth_.cy), std::hypot(truth_.width - truth_.cx, truth_.cy),
                 std::hypot(truth_.cx, truth_.height - truth_.cy),
                 std::hypot(truth_.width - truth_.cx, truth_.height - truth_.cy)});
   const double loss = params_.vignetting ? params_.vignetting_corner_loss : 0.0;
   for (int y = 0; y < truth_.height; ++y)
     for (int x = 0; x < truth_.width; ++x) {
-      const double r = std::hypot(x - truth_.cx, y - truth_.cy) / r_corner2;
+      const double r = std::hypot(x - truth_.cx, y - truth_.cy) / r_corner;
       vignette_.at<float>(y, x) = static_cast<float>(1.0 - loss * r * r);
     }
   to_linear_.resize(256);
