@@ -137,6 +137,24 @@ def test_realism_tum_records_its_effects_and_the_users_calibration(tmp_path):
     assert "Camera.k1: 0\n" in (clean / "settings.yaml").read_text()
 
 
+def test_realism_tum_moves_the_camera_as_fast_as_tums_sequence():
+    # The whole preset's motion (no frame rendered), as TUM's statistics script computes it, within
+    # the 15 % of the figures TUM publishes for fr3/walking_rpy (0.091 m/s, 20.90 deg/s).
+    def speeds(*extra):
+        out = run("synth", "--preset", "walking_rpy", "--motion-stats", *extra)
+        assert out.returncode == 0, out.stderr
+        ours, tums = [l.split("mean ")[1].split() for l in out.stdout.splitlines() if "mean " in l]
+        return (float(ours[0]), float(ours[3])), (float(tums[0]), float(tums[3]))
+    (speed, turn), (tum_speed, tum_turn) = speeds("--realism", "tum")
+    assert (tum_speed, tum_turn) == (0.091, 20.90)
+    assert speed == pytest.approx(tum_speed, rel=0.15) and turn == pytest.approx(tum_turn, rel=0.15)
+    # The clean profile keeps the smooth path (a camera that barely translates), and so does an
+    # ablation of the effect.
+    for extra in ((), ("--realism", "tum", "--realism-off", "camera_motion")):
+        (speed, _), _ = speeds(*extra)
+        assert speed < 0.2 * tum_speed
+
+
 def test_realism_errors_are_one_line(tmp_path):
     out = run("synth", "--preset", "walking_xyz", "--frames", "1", "--realism", "tum", "--realism-off", "blurr",
               "--out", str(tmp_path / "x"))

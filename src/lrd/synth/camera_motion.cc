@@ -12,6 +12,13 @@ namespace {
 constexpr double kTwoPi = 2.0 * M_PI;
 const Eigen::Vector3d kBase(2.2, 2.5, 1.35);    // where the walking/sitting presets' camera stands
 const Eigen::Vector3d kTarget(5.2, 2.5, 0.85);  // the desk
+
+// Camera-frame rotations: yaw about -y (world up), pitch about x, roll about z.
+Eigen::Matrix3d yaw_pitch_roll(double yaw, double pitch, double roll) {
+  return Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+         Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()).toRotationMatrix() *
+         Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
 }  // namespace
 
 CameraMotion::CameraMotion(MotionKind kind, double duration, std::uint64_t seed, int session)
@@ -21,6 +28,8 @@ CameraMotion::CameraMotion(MotionKind kind, double duration, std::uint64_t seed,
                 std::to_string(kMaxSession) + ")");
   PortableRandom rng(seed * 0x2545F4914F6CDD1Dull + 17);
   for (double& p : phase_) p = rng.uniform(0.0, kTwoPi);
+  PortableRandom sway_rng(seed * 0x9E3779B97F4A7C15ull + 29);
+  for (double& p : sway_phase_) p = sway_rng.uniform(0.0, kTwoPi);
 }
 
 Eigen::Isometry3d CameraMotion::look_at(const Eigen::Vector3d& position, const Eigen::Vector3d& target,
@@ -32,10 +41,7 @@ Eigen::Isometry3d CameraMotion::look_at(const Eigen::Vector3d& position, const E
   R.col(0) = x;
   R.col(1) = y;
   R.col(2) = z;
-  // Camera-frame rotations: yaw about -y (world up), pitch about x, roll about z.
-  R = R * Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitY()).toRotationMatrix() *
-      Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()).toRotationMatrix() *
-      Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  R = R * yaw_pitch_roll(yaw, pitch, roll);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = R;
   T.translation() = position;
@@ -79,6 +85,28 @@ Eigen::Isometry3d CameraMotion::pose_at(double t) const {
     first.session_ = 1;
     return session_offset(t) * first.pose_at(t);
   }
+  return hand_held_pose(smooth_pose_at(t), t);
+}
+
+Eigen::Isometry3d CameraMotion::hand_held_pose(const Eigen::Isometry3d& smooth, double t) const {
+  const HandHeldMotion& h = hand_held_;
+  if (h.path_scale == 1.0 && h.translation_sway == 0.0 && h.rotation_sway == 0.0) return smooth;
+  // Slow two-tone waves: a hand sways over seconds, which TUM's 1-s statistics count (the fast
+  // tremor they mostly average out is already in the smooth path).
+  const auto wave = [&](int k, double f1, double f2) {
+    return std::sin(kTwoPi * f1 * t + sway_phase_[k]) + 0.5 * std::sin(kTwoPi * f2 * t + sway_phase_[k + 1]);
+  };
+  Eigen::Isometry3d T = smooth;
+  T.translation() = kBase + h.path_scale * (smooth.translation() - kBase) +
+                    h.translation_sway *
+                        Eigen::Vector3d(wave(0, 0.19, 0.43), wave(2, 0.15, 0.37), 0.6 * wave(4, 0.23, 0.51));
+  const double a = h.rotation_sway;
+  T.linear() = smooth.linear() * yaw_pitch_roll(a * wave(6, 0.21, 0.47), 0.7 * a * wave(8, 0.17, 0.41),
+                                                0.4 * a * wave(10, 0.13, 0.33));
+  return T;
+}
+
+Eigen::Isometry3d CameraMotion::smooth_pose_at(double t) const {
   const Eigen::Vector3d tp = tremor_position(t);
   const Eigen::Vector3d ta = tremor_angles(t);
   const Eigen::Vector3d forward = (kTarget - kBase).normalized();

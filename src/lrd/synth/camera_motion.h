@@ -12,6 +12,14 @@ namespace lrd::synth {
 
 enum class MotionKind { kStill, kXyz, kRpy, kHalfsphere, kLoop, kTour, kCircle };
 
+// How the realism profile's hand-held camera departs from a preset's smooth path (issue 21;
+// synth/motion_matching.h sizes it for each preset). The defaults are the smooth path itself.
+struct HandHeldMotion {
+  double path_scale = 1.0;        // the path's displacement from the presets' standpoint, scaled
+  double translation_sway = 0.0;  // m: amplitude of a slow wander (periods of 2-7 s)
+  double rotation_sway = 0.0;     // rad: amplitude of a slow yaw/pitch/roll sway (periods of 2-8 s)
+};
+
 class CameraMotion {
  public:
   // `duration`: the preset's full length in seconds (the loop's two laps span it). `session` 1 is
@@ -25,6 +33,10 @@ class CameraMotion {
   // Camera-to-world pose (camera: x right, y down, z forward; world: z up).
   [[nodiscard]] Eigen::Isometry3d pose_at(double t) const;
   [[nodiscard]] MotionKind kind() const { return kind_; }
+  // Only for the presets standing at the walking/sitting standpoint (kStill, kXyz, kRpy,
+  // kHalfsphere): the path is scaled about it.
+  void set_hand_held(const HandHeldMotion& motion) { hand_held_ = motion; }
+  [[nodiscard]] const HandHeldMotion& hand_held() const { return hand_held_; }
 
   // Pose at `position` looking at `target`, world z up, then rotated by yaw/pitch/roll in the
   // camera frame.
@@ -32,6 +44,8 @@ class CameraMotion {
                                    double yaw = 0, double pitch = 0, double roll = 0);
 
  private:
+  [[nodiscard]] Eigen::Isometry3d smooth_pose_at(double t) const;
+  [[nodiscard]] Eigen::Isometry3d hand_held_pose(const Eigen::Isometry3d& smooth, double t) const;
   [[nodiscard]] Eigen::Vector3d tremor_position(double t) const;
   [[nodiscard]] Eigen::Vector3d tremor_angles(double t) const;
   // World-frame motion from session 1's standpoint to this session's at time t.
@@ -40,6 +54,8 @@ class CameraMotion {
   int session_;
   double duration_;
   std::array<double, 12> phase_{};
+  HandHeldMotion hand_held_;
+  std::array<double, 12> sway_phase_{};  // drawn apart from phase_: the smooth paths stay as they were
 };
 
 }  // namespace lrd::synth

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "lrd/synth/motion_matching.h"
 #include "lrd/synth/portable_random.h"
 #include "lrd/synth/room_scene.h"
 #include "lrd/synth/seated_actor.h"
@@ -85,10 +86,16 @@ const PresetSpec& find_preset(const std::string& name) {
 }
 
 SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex, std::uint64_t seed,
-                               double fps, int session) {
+                               double fps, int session, bool hand_held) {
   SceneScript script;
   const double duration = spec.default_frames / fps;
   script.camera = std::make_unique<CameraMotion>(spec.motion, duration, seed, session);
+  const auto target = tum_fr3_motion(spec.name);
+  if (hand_held && target) {
+    // Sized on session 1's path, so that every session moves alike.
+    const CameraMotion first(spec.motion, duration, seed, 1);
+    script.camera->set_hand_held(match_motion(first, *target, duration, fps));
+  }
   Draw d(seed);
   // Paths in front of the camera (which stands near x = 2.2 looking at the desk at x = 4.2..5.0,
   // y = 1.5..3.5). As in TUM's walking sequences, people pass within 1-2 m of the camera and

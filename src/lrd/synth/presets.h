@@ -35,7 +35,10 @@ struct SceneScript {
 };
 
 // `session`: the camera's standpoint (CameraMotion); the people are the same in every session.
+// `hand_held`: the camera moves as fast as the TUM fr3 sequence the preset mirrors, if it mirrors
+// one (synth/motion_matching.h; the realism profile's camera_motion effect).
 [[nodiscard]] SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex,
-                                             std::uint64_t seed, double fps, int session = 1);
+                                             std::uint64_t seed, double fps, int session = 1,
+                                             bool hand_held = false);
 
 }  // namespace lrd::synth

@@ -29,6 +29,7 @@ const std::vector<std::pair<std::string, bool RealismParams::*>>& effect_switche
       {"gt_noise", &RealismParams::gt_noise},
       {"gt_time_offset", &RealismParams::gt_time_offset},
       {"gt_mocap_rate", &RealismParams::gt_mocap_rate},
+      {"camera_motion", &RealismParams::camera_motion},
   };
   return switches;
 }

@@ -76,6 +76,10 @@ struct RealismParams {
   bool gt_mocap_rate = false;
   double gt_rate = 100.0;  // Hz
 
+  // Camera motion: each walking/sitting preset's path as fast, in translation and in rotation, as
+  // the TUM fr3 sequence it mirrors (synth/motion_matching.h).
+  bool camera_motion = false;
+
   [[nodiscard]] bool is_clean() const;
 };
 

@@ -15,6 +15,7 @@
 #include "lrd/dense/ply_io.h"
 #include "lrd/eval/motion_statistics.h"
 #include "lrd/io/trajectory.h"
+#include "lrd/synth/motion_matching.h"
 #include "lrd/util/error.h"
 
 namespace lrd::synth {
@@ -139,6 +140,14 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
                                         {"length_m", m.length},
                                         {"mean_speed_m_s", m.mean_speed},
                                         {"mean_angular_speed_deg_s", m.mean_angular_speed}};
+    if (const auto target = tum_fr3_motion(seq.spec().name)) {
+      const HandHeldMotion& h = seq.camera_motion().hand_held();
+      meta["realism"]["camera_motion"]["tum_fr3"] = {
+          {"mean_speed_m_s", target->mean_speed}, {"mean_angular_speed_deg_s", target->mean_angular_speed}};
+      meta["realism"]["camera_motion"]["hand_held"] = {{"path_scale", h.path_scale},
+                                                       {"translation_sway_m", h.translation_sway},
+                                                       {"rotation_sway_rad", h.rotation_sway}};
+    }
   }
   if (seq.options().camera_speed != 1.0) meta["camera_speed"] = seq.options().camera_speed;
   meta["session"] = seq.options().session;

@@ -39,7 +39,8 @@ SyntheticSequence::SyntheticSequence(const SynthOptions& options,
   frames_ = options.frames < 0 ? spec_.default_frames : options.frames;
   if (frames_ == 0) throw Error("synth: --frames must be at least 1");
   room_ = build_room(*textures_);
-  script_ = build_scene_script(spec_, *textures_, options.seed, camera_.fps, options.session);
+  script_ = build_scene_script(spec_, *textures_, options.seed, camera_.fps, options.session,
+                               options.realism.camera_motion);
   rasterizer_ = std::make_unique<Rasterizer>(camera_, *textures_);
   sensor_ = std::make_unique<SensorModel>(camera_, SensorParams{}, options.seed);
   calibration_ = calibrated_camera(camera_, options.realism);

@@ -73,6 +73,7 @@ class SyntheticSequence {
   [[nodiscard]] const SynthOptions& options() const { return options_; }
   [[nodiscard]] const TextureLibrary& textures() const { return *textures_; }
   [[nodiscard]] std::vector<std::string> actor_descriptions() const;
+  [[nodiscard]] const CameraMotion& camera_motion() const { return *script_.camera; }
 
   [[nodiscard]] double timestamp(int i) const;
   [[nodiscard]] double depth_timestamp(int i) const;
