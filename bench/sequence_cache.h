@@ -5,16 +5,32 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
 #include "bench/yardstick.h"
 #include "lrd/io/tum_sequence.h"
+#include "lrd/synth/realism.h"
 #include "lrd/synth/sequence_writer.h"
 #include "lrd/synth/synthetic_sequence.h"
 
 namespace lrd::bench {
+
+// Whether the sequence in `dir` was rendered with every effect and parameter of `realism` as it
+// is now (sequence.json's realism record; none for the clean profile).
+inline bool realism_matches(const std::filesystem::path& dir, const lrd::synth::RealismParams& realism) {
+  std::ifstream in(dir / "sequence.json");
+  const auto meta = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (meta.is_discarded()) return false;
+  if (realism.is_clean()) return !meta.contains("realism");
+  if (!meta.contains("realism")) return false;
+  nlohmann::json recorded = meta["realism"];
+  recorded.erase("camera_motion");  // what the writer measured, beside the parameters
+  return recorded == lrd::synth::realism_json(realism);
+}
 
 // cache/PRESET (or cache/PRESET_FRAMES for a prefix; _sN for map-file session N > 1; _tum for
 // the `tum` realism profile), rendered when absent.
@@ -25,16 +41,18 @@ inline std::filesystem::path ensure_sequence(const std::filesystem::path& cache,
   if (session != 1) name += fmt::format("_s{}", session);
   if (realism != "clean") name += "_" + realism;
   const std::filesystem::path dir = cache / name;
-  // scene.ply came later than the first cached sequences: those are rendered again.
-  if (std::filesystem::exists(dir / "associations.txt") && std::filesystem::exists(dir / "scene.ply"))
-    return dir;
-  std::fprintf(stderr, "generating %s into %s ...\n", preset.c_str(), dir.string().c_str());
   lrd::synth::SynthOptions o;
   o.preset = preset;
   o.seed = 1;
   o.frames = frames;
   o.session = session;
   o.realism = lrd::synth::realism_profile(realism);
+  // scene.ply came later than the first cached sequences, and the realism profile grows: those
+  // are rendered again.
+  if (std::filesystem::exists(dir / "associations.txt") && std::filesystem::exists(dir / "scene.ply") &&
+      realism_matches(dir, o.realism))
+    return dir;
+  std::fprintf(stderr, "generating %s into %s ...\n", preset.c_str(), dir.string().c_str());
   const lrd::synth::SyntheticSequence seq(o);
   (void)lrd::synth::write_sequence(seq, dir);
   return dir;

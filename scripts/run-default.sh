@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Sets up a fresh Debian bookworm machine, builds lrd-slam and runs the main job on the built-in
-# default: it renders the default synthetic dynamic sequence (walking_xyz, seed 1), runs SLAM on
-# it with the dense map and prints ATE/RPE against its ground truth (with plots). With the shipped
-# segmentation model (models/fnet-lite.onnx) it runs the full LRD-SLAM (C) mode; without it, the
-# model-free `geometric` mode (the multi-view geometry check alone).
+# default: it renders the default synthetic dynamic sequence (walking_xyz, seed 1, realism profile
+# `tum`), runs SLAM on it with the dense map and prints ATE/RPE against its ground truth (with
+# plots). With the shipped segmentation model (models/fnet-lite.onnx) it runs the full LRD-SLAM (C)
+# mode; without it, the model-free `geometric` mode (the multi-view geometry check alone).
 # Usage: scripts/run-default.sh [OUT_DIR]   (default: out/default)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,9 +17,11 @@ bash scripts/fetch-web-assets.sh || echo "warning: scripts/fetch-web-assets.sh f
 cmake --preset release
 cmake --build --preset release -j "$(nproc)"
 BIN=build/release/bin/lrdslam
-SEQ="$OUT/walking_xyz"
+# The realism profile of a real Kinect in TUM's office (issue 21, docs/synthetic-benchmark.md):
+# blur, rolling shutter, noise, distortion and a slightly wrong calibration, TUM's camera motion.
+SEQ="$OUT/walking_xyz_tum"
 if [ ! -f "$SEQ/sequence.json" ]; then
-  "$BIN" synth --preset walking_xyz --seed 1 --out "$SEQ"
+  "$BIN" synth --preset walking_xyz --seed 1 --realism tum --out "$SEQ"
 fi
 if [ -f models/fnet-lite.onnx ]; then MODE=(--mode full --segmenter fnet); else MODE=(--mode geometric); fi
 MODE+=(--dense)  # background repair and the dense map (dense_map.ply/.png), the occupancy map (occupancy.bt, occupancy_2d.*)
