@@ -13,9 +13,10 @@ constexpr double kTwoPi = 2.0 * M_PI;
 const Eigen::Vector3d kBase(2.2, 2.5, 1.35);    // where the walking/sitting presets' camera stands
 const Eigen::Vector3d kTarget(5.2, 2.5, 0.85);  // the desk
 
-// Camera-frame rotations: yaw about -y (world up), pitch about x, roll about z.
-Eigen::Matrix3d yaw_pitch_roll(double yaw, double pitch, double roll) {
-  return Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+// `R` turned by camera-frame rotations: yaw about -y (world up), pitch about x, roll about z
+// (multiplied in this order: the clean presets' poses stay bit for bit what they were).
+Eigen::Matrix3d turned(const Eigen::Matrix3d& R, double yaw, double pitch, double roll) {
+  return R * Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitY()).toRotationMatrix() *
          Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()).toRotationMatrix() *
          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 }
@@ -41,9 +42,8 @@ Eigen::Isometry3d CameraMotion::look_at(const Eigen::Vector3d& position, const E
   R.col(0) = x;
   R.col(1) = y;
   R.col(2) = z;
-  R = R * yaw_pitch_roll(yaw, pitch, roll);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = R;
+  T.linear() = turned(R, yaw, pitch, roll);
   T.translation() = position;
   return T;
 }
@@ -101,8 +101,8 @@ Eigen::Isometry3d CameraMotion::hand_held_pose(const Eigen::Isometry3d& smooth, 
                     h.translation_sway *
                         Eigen::Vector3d(wave(0, 0.19, 0.43), wave(2, 0.15, 0.37), 0.6 * wave(4, 0.23, 0.51));
   const double a = h.rotation_sway;
-  T.linear() = smooth.linear() * yaw_pitch_roll(a * wave(6, 0.21, 0.47), 0.7 * a * wave(8, 0.17, 0.41),
-                                                0.4 * a * wave(10, 0.13, 0.33));
+  T.linear() = turned(smooth.linear(), a * wave(6, 0.21, 0.47), 0.7 * a * wave(8, 0.17, 0.41),
+                      0.4 * a * wave(10, 0.13, 0.33));
   return T;
 }
 
