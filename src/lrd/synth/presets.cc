@@ -6,6 +6,7 @@
 #include "lrd/synth/portable_random.h"
 #include "lrd/synth/room_scene.h"
 #include "lrd/synth/seated_actor.h"
+#include "lrd/synth/standing_up_actor.h"
 #include "lrd/synth/walking_actor.h"
 #include "lrd/util/error.h"
 
@@ -64,6 +65,10 @@ const std::vector<PresetSpec>& preset_specs() {
        "two people walk around the room while the camera circles it twice"},
       {"walking_pushed", 900, MotionKind::kXyz, Cast::kPushAndCarry,
        "a person pushes a chair, another carries a box; camera translates"},
+      {"sitting_standup", 900, MotionKind::kXyz, Cast::kSitStandUp,
+       "two seated people; after 8-9 s one stands up and walks out of the view; camera translates along x, "
+       "y, z",
+       true},
       {"walking_long", 21600, MotionKind::kTour, Cast::kTourWalkers,
        "the long preset (12 min): three people walk around the room, one against the others, while the "
        "camera tours it, 36 laps whose radius and height drift (revisits, loops); bench_scale's sequence",
@@ -132,6 +137,21 @@ SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex
                                                               d.uniform(0.0f, 6.283f), d.uniform(0.7f, 1.0f),
                                                               "person " + std::to_string(idx + 1)));
       }
+      break;
+    }
+    case Cast::kSitStandUp: {
+      // Person 1 sits long enough to be mapped as background, then gets up, walks round the end of
+      // the desk and out of the view to the right, and stays there; person 2 sits on.
+      const auto seats = RoomLayout::seat_poses();
+      const Eigen::Vector3f seat = seats[0].translation();
+      SeatedActor first(seats[0], random_look(tex, d, 0), d.uniform(0.0f, 6.283f), d.uniform(0.7f, 1.0f),
+                        "person 1");
+      const std::vector<P> exit = {P(seat.x(), seat.y() - 0.15f), P(5.45f, 1.6f), P(5.35f, 0.95f),
+                                   P(4.0f, 0.9f), P(2.6f, 0.95f)};
+      script.actors.push_back(
+          std::make_unique<StandingUpActor>(std::move(first), d.uniform(8.0f, 9.0f), exit, 0.8f, "person 1"));
+      script.actors.push_back(std::make_unique<SeatedActor>(
+          seats[1], random_look(tex, d, 1), d.uniform(0.0f, 6.283f), d.uniform(0.7f, 1.0f), "person 2"));
       break;
     }
     case Cast::kPushAndCarry:

@@ -11,7 +11,7 @@
 
 namespace lrd::synth {
 
-enum class Cast { kNobody, kWalkers, kSitters, kPushAndCarry, kLoopWalkers, kTourWalkers };
+enum class Cast { kNobody, kWalkers, kSitters, kPushAndCarry, kLoopWalkers, kTourWalkers, kSitStandUp };
 
 struct PresetSpec {
   std::string name;
@@ -19,9 +19,9 @@ struct PresetSpec {
   MotionKind motion = MotionKind::kStill;
   Cast cast = Cast::kNobody;
   std::string description;
-  // The long preset (bench_scale): left out of the segmentation training data, whose draw over
-  // the presets (voc_exporter) stays the one FNet-lite was trained on.
-  bool long_run = false;
+  // Left out of the segmentation training data, whose draw over the presets (voc_exporter) stays
+  // the one FNet-lite was trained on: the long presets (bench_scale) and those added after it.
+  bool held_out = false;
 };
 
 [[nodiscard]] const std::vector<PresetSpec>& preset_specs();

@@ -9,6 +9,10 @@ SeatedActor::SeatedActor(const Eigen::Isometry3f& seat, Appearance look, float p
     : seat_(seat), look_(look), phase_(phase), liveliness_(liveliness), name_(std::move(name)) {}
 
 void SeatedActor::add_geometry(double t, TriangleSoup& soup) const {
+  add_humanoid(soup, pose_at(t), look_);
+}
+
+BodyPose SeatedActor::pose_at(double t) const {
   const float tf = static_cast<float>(t), ph = phase_, L = liveliness_;
   BodyPose pose;
   pose.root = seat_;
@@ -32,7 +36,7 @@ void SeatedActor::add_geometry(double t, TriangleSoup& soup) const {
     pose.shoulder_roll[i] = 0.15f * L * burst * std::sin(1.7f * tf + ph);
     pose.elbow[i] = 1.1f + 0.5f * L * burst * std::sin(3.1f * tf + ph + s);
   }
-  add_humanoid(soup, pose, look_);
+  return pose;
 }
 
 std::string SeatedActor::describe() const {

@@ -14,6 +14,9 @@ class SeatedActor : public Actor {
               std::string name);
   void add_geometry(double t, TriangleSoup& soup) const override;
   [[nodiscard]] std::string describe() const override;
+  [[nodiscard]] BodyPose pose_at(double t) const;
+  [[nodiscard]] const Appearance& look() const { return look_; }
+  [[nodiscard]] const Eigen::Isometry3f& seat() const { return seat_; }
 
  private:
   Eigen::Isometry3f seat_;

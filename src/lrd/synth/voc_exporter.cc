@@ -32,7 +32,7 @@ VocExportSummary export_voc(const fs::path& dir, const VocExportOptions& options
   // preset came after FNet-lite was trained: left out, the draw stays the same.
   std::vector<PresetSpec> specs;
   for (const PresetSpec& s : preset_specs())
-    if (!s.long_run) specs.push_back(s);
+    if (!s.held_out) specs.push_back(s);
   const auto textures = SyntheticSequence::load_textures();
   const int per_seq = std::max(1, options.frames_per_sequence);
   const int sequences = (options.images + per_seq - 1) / per_seq;

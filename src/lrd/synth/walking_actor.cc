@@ -7,6 +7,37 @@
 
 namespace lrd::synth {
 
+BodyPose walking_body(const Eigen::Isometry3f& root, float phi, float amp, float tf, float phase,
+                      CarriedProp prop) {
+  const bool pushing = prop == CarriedProp::kPushedChair;
+  const bool carrying = prop == CarriedProp::kCarriedBox;
+  BodyPose pose;
+  pose.root = root;
+  pose.pelvis_height = 0.93f - 0.015f * std::abs(std::cos(phi)) * amp;
+  pose.torso_yaw = 0.06f * std::sin(phi) * amp;
+  pose.torso_pitch = pushing ? 0.25f : 0.04f;
+  pose.head_yaw = 0.35f * std::sin(0.37f * tf + phase);
+  pose.head_pitch = 0.1f * std::sin(0.23f * tf + 2.0f * phase);
+  for (int i = 0; i < 2; ++i) {
+    const float sgn = i == 0 ? 1.0f : -1.0f;
+    const float leg = sgn * std::sin(phi);
+    pose.hip_pitch[static_cast<std::size_t>(i)] = 0.38f * leg * amp;
+    pose.knee[static_cast<std::size_t>(i)] = (0.08f + 0.6f * std::max(0.0f, sgn * std::cos(phi))) * amp;
+    if (pushing) {
+      pose.shoulder_pitch[static_cast<std::size_t>(i)] = 1.05f;
+      pose.elbow[static_cast<std::size_t>(i)] = 0.45f;
+    } else if (carrying) {
+      pose.shoulder_pitch[static_cast<std::size_t>(i)] = 0.75f;
+      pose.elbow[static_cast<std::size_t>(i)] = 1.0f;
+      pose.shoulder_roll[static_cast<std::size_t>(i)] = 0.15f;
+    } else {
+      pose.shoulder_pitch[static_cast<std::size_t>(i)] = -0.4f * leg * amp;
+      pose.elbow[static_cast<std::size_t>(i)] = 0.25f + 0.2f * std::max(0.0f, -leg) * amp;
+    }
+  }
+  return pose;
+}
+
 WalkingActor::WalkingActor(WalkingParams params, Appearance look, const TextureLibrary& tex, std::string name)
     : params_(std::move(params)), look_(look), tex_(tex), path_(params_.waypoints), name_(std::move(name)) {}
 
@@ -27,30 +58,8 @@ void WalkingActor::add_geometry(double t, TriangleSoup& soup) const {
   const float speed_now = params_.speed * (1.0f + a * std::cos(w * tf + params_.phase));
   const float amp = std::min(1.0f, speed_now / 0.8f);  // slower walking, smaller swings
 
-  BodyPose pose;
-  pose.root = floor_pose(p.x(), p.y(), yaw);
-  pose.pelvis_height = 0.93f - 0.015f * std::abs(std::cos(phi)) * amp;
-  pose.torso_yaw = 0.06f * std::sin(phi) * amp;
-  pose.torso_pitch = pushing ? 0.25f : 0.04f;
-  pose.head_yaw = 0.35f * std::sin(0.37f * tf + params_.phase);
-  pose.head_pitch = 0.1f * std::sin(0.23f * tf + 2.0f * params_.phase);
-  for (int i = 0; i < 2; ++i) {
-    const float sgn = i == 0 ? 1.0f : -1.0f;
-    const float leg = sgn * std::sin(phi);
-    pose.hip_pitch[static_cast<std::size_t>(i)] = 0.38f * leg * amp;
-    pose.knee[static_cast<std::size_t>(i)] = (0.08f + 0.6f * std::max(0.0f, sgn * std::cos(phi))) * amp;
-    if (pushing) {
-      pose.shoulder_pitch[static_cast<std::size_t>(i)] = 1.05f;
-      pose.elbow[static_cast<std::size_t>(i)] = 0.45f;
-    } else if (carrying) {
-      pose.shoulder_pitch[static_cast<std::size_t>(i)] = 0.75f;
-      pose.elbow[static_cast<std::size_t>(i)] = 1.0f;
-      pose.shoulder_roll[static_cast<std::size_t>(i)] = 0.15f;
-    } else {
-      pose.shoulder_pitch[static_cast<std::size_t>(i)] = -0.4f * leg * amp;
-      pose.elbow[static_cast<std::size_t>(i)] = 0.25f + 0.2f * std::max(0.0f, -leg) * amp;
-    }
-  }
+  const BodyPose pose =
+      walking_body(floor_pose(p.x(), p.y(), yaw), phi, amp, tf, params_.phase, params_.prop);
   add_humanoid(soup, pose, look_);
 
   if (pushing) {

@@ -21,6 +21,11 @@ struct WalkingParams {
   CarriedProp prop = CarriedProp::kNone;
 };
 
+// The walking body on `root` (floor, +x forward) at stride phase `phi` (2 pi per stride), its
+// swings scaled by `amp` (0: standing), head turning with time `tf`; the arms hold `prop`.
+[[nodiscard]] BodyPose walking_body(const Eigen::Isometry3f& root, float phi, float amp, float tf,
+                                    float phase, CarriedProp prop);
+
 class WalkingActor : public Actor {
  public:
   WalkingActor(WalkingParams params, Appearance look, const TextureLibrary& tex, std::string name);
