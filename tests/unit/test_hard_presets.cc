@@ -1,6 +1,10 @@
 // The harder dynamic content of issue 21: a seated person who stands up after several seconds and
-// walks out of the view (sitting_standup).
+// walks out of the view (sitting_standup), and a person walking at the camera until they fill most
+// of the view beside one cut by the image border (walking_close).
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/core.hpp>
 
 #include "lrd/camera/pinhole_camera.h"
 #include "lrd/synth/presets.h"
@@ -58,5 +62,42 @@ TEST(HardPresets, TheStandingUpPersonSitsStillThenWalksOutOfTheView) {
   EXPECT_LT((seen(script, 1, 1.0).centroid - seen(script, 1, 29.0).centroid).norm(), 0.1f);
   EXPECT_GT(seen(script, 1, 29.0).in_view, 0.95);
   // Left out of FNet-lite's training draw, as every preset added after it.
+  EXPECT_TRUE(spec.held_out);
+}
+
+TEST(HardPresets, APersonWalksAtTheCameraAndFillsMostOfTheViewForOverASecond) {
+  const auto textures = lrd::synth::SyntheticSequence::load_textures();
+  const auto& spec = lrd::synth::find_preset("walking_close");
+  const auto script = lrd::synth::build_scene_script(spec, *textures, 1, 30.0);
+  ASSERT_EQ(script.actors.size(), 2u);
+  // Their distance to the camera over the first 12 s: it comes down to under 0.6 m and stays there
+  // for over a second.
+  double closest = 1e9, near_from = -1.0, near_to = -1.0;
+  for (int k = 0; k < 120; ++k) {
+    const double t = 0.1 * k;
+    const Eigen::Vector3f camera = script.camera->pose_at(t).translation().cast<float>();
+    const float distance = (seen(script, 0, t).centroid - camera).head<2>().norm();
+    closest = std::min<double>(closest, distance);
+    if (distance < 0.6f && near_from < 0.0) near_from = t;
+    if (distance < 0.6f && near_to < near_from + 2.0) near_to = t;
+  }
+  EXPECT_LT(closest, 0.6);
+  ASSERT_GE(near_from, 0.0);
+  EXPECT_GT(near_to - near_from, 1.0);
+  // Inside that second they cover more than 70 % of the image (ground-truth mask).
+  lrd::synth::SynthOptions o;
+  o.preset = "walking_close";
+  const lrd::synth::SyntheticSequence seq(o, textures);
+  for (double t : {near_from + 0.3, near_to - 0.3}) {
+    const auto frame = seq.render(static_cast<int>(std::lround(t * 30.0)));
+    EXPECT_GT(cv::countNonZero(frame.mask), 0.7 * static_cast<double>(frame.mask.total())) << t;
+  }
+  // The box carrier is cut by the image border: in part in view at some moments.
+  int cut = 0;
+  for (int k = 0; k < 60; ++k) {
+    const double share = seen(script, 1, 0.5 * k).in_view;
+    cut += share > 0.05 && share < 0.9;
+  }
+  EXPECT_GT(cut, 10);
   EXPECT_TRUE(spec.held_out);
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "lrd/synth/approaching_actor.h"
 #include "lrd/synth/motion_matching.h"
 #include "lrd/synth/portable_random.h"
 #include "lrd/synth/room_scene.h"
@@ -68,6 +69,10 @@ const std::vector<PresetSpec>& preset_specs() {
       {"sitting_standup", 900, MotionKind::kXyz, Cast::kSitStandUp,
        "two seated people; after 8-9 s one stands up and walks out of the view; camera translates along x, "
        "y, z",
+       true},
+      {"walking_close", 900, MotionKind::kStill, Cast::kCloseAndCut,
+       "one person walks straight at the camera and fills most of the view for a moment, again and again; "
+       "another carries a box round a loop at the image's right border; camera nearly still",
        true},
       {"walking_long", 21600, MotionKind::kTour, Cast::kTourWalkers,
        "the long preset (12 min): three people walk around the room, one against the others, while the "
@@ -152,6 +157,23 @@ SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex
           std::make_unique<StandingUpActor>(std::move(first), d.uniform(8.0f, 9.0f), exit, 0.8f, "person 1"));
       script.actors.push_back(std::make_unique<SeatedActor>(
           seats[1], random_look(tex, d, 1), d.uniform(0.0f, 6.283f), d.uniform(0.7f, 1.0f), "person 2"));
+      break;
+    }
+    case Cast::kCloseAndCut: {
+      // Person 1 walks from the desk straight at the camera (which stands at x = 2.2, y = 2.5) and
+      // stands 0.6 m from it, filling most of the view; person 2 carries a box round a small loop
+      // to the right, 0.7-1.7 m from the camera: cut by the border, legs or head out of the view.
+      ApproachParams a;
+      a.far = P(4.0f, 2.45f);
+      a.near = P(2.65f, 2.5f);
+      a.speed = 0.8f * d.uniform(0.9f, 1.1f);
+      a.hold = 1.5;
+      a.wait = 3.0;
+      a.start = d.uniform(0.0f, 2.0f);
+      a.phase = d.uniform(0.0f, 6.283f);
+      script.actors.push_back(std::make_unique<ApproachingActor>(a, random_look(tex, d, 0), "person 1"));
+      walker({P(2.95f, 1.45f), P(3.05f, 2.15f), P(3.9f, 2.1f), P(3.8f, 1.35f)}, 0.0f,
+             CarriedProp::kCarriedBox, 1, 0.6f);
       break;
     }
     case Cast::kPushAndCarry:

@@ -11,7 +11,16 @@
 
 namespace lrd::synth {
 
-enum class Cast { kNobody, kWalkers, kSitters, kPushAndCarry, kLoopWalkers, kTourWalkers, kSitStandUp };
+enum class Cast {
+  kNobody,
+  kWalkers,
+  kSitters,
+  kPushAndCarry,
+  kLoopWalkers,
+  kTourWalkers,
+  kSitStandUp,
+  kCloseAndCut
+};
 
 struct PresetSpec {
   std::string name;
