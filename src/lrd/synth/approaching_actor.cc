@@ -1,6 +1,5 @@
 #include "lrd/synth/approaching_actor.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include "lrd/synth/room_scene.h"
@@ -25,10 +24,8 @@ void ApproachingActor::add_geometry(double t, TriangleSoup& soup) const {
   double c = std::fmod(t + params_.start, period());
   // Distance from `far` and heading, through the cycle's six parts.
   float s = 0.0f, yaw = towards;
-  bool walking = false;
   if (c < walk) {
     s = params_.speed * static_cast<float>(c);
-    walking = true;
   } else if ((c -= walk) < params_.hold) {
     s = length;
   } else if ((c -= params_.hold) < kTurnSeconds) {
@@ -37,19 +34,15 @@ void ApproachingActor::add_geometry(double t, TriangleSoup& soup) const {
   } else if ((c -= kTurnSeconds) < walk) {
     s = length - params_.speed * static_cast<float>(c);
     yaw = towards + pi;
-    walking = true;
   } else if ((c -= walk) < kTurnSeconds) {
     yaw = towards + pi + pi * static_cast<float>(c / kTurnSeconds);
   }
   const Eigen::Vector2f p = params_.far + (s / length) * line;
-  const float stride = 1.35f * look_.height / 1.75f;
-  const float phi = 2.0f * pi * s / stride;
-  // Swings grow over the first steps and die down over the last.
-  const float amp = walking ? std::clamp(std::min(s, length - s) / 0.4f, 0.0f, 1.0f) : 0.0f;
-  add_humanoid(soup,
-               walking_body(floor_pose(p.x(), p.y(), yaw), phi, amp, static_cast<float>(t), params_.phase,
-                            CarriedProp::kNone),
-               look_);
+  // Standing (s at either end) while they hold, turn and wait.
+  add_humanoid(
+      soup,
+      walk_leg_body(floor_pose(p.x(), p.y(), yaw), s, length, look_, static_cast<float>(t), params_.phase),
+      look_);
 }
 
 std::string ApproachingActor::describe() const {

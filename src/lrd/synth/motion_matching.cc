@@ -1,7 +1,6 @@
 #include "lrd/synth/motion_matching.h"
 
 #include <cmath>
-#include <functional>
 #include <map>
 
 #include "lrd/eval/motion_statistics.h"
@@ -24,17 +23,35 @@ eval::MotionStatistics statistics_with(const CameraMotion& smooth, const HandHel
   return eval::motion_statistics(trajectory);
 }
 
-// The x in [0, hi] where `f` (increasing in x) reaches `goal`: bisection, a fixed number of steps
-// so that the result is the same on every run.
-double solve_increasing(const std::function<double(double)>& f, double goal, double hi) {
-  double lo = 0.0;
-  while (f(hi) < goal && hi < 64.0) hi *= 2.0;
-  for (int step = 0; step < 40; ++step) {
-    const double mid = 0.5 * (lo + hi);
-    (f(mid) < goal ? lo : hi) = mid;
+using Statistic = double eval::MotionStatistics::*;
+using Amplitude = double HandHeldMotion::*;
+
+// The hand-held motion's amplitudes solved for one at a time on one smooth path.
+struct Matcher {
+  const CameraMotion& smooth;
+  double duration, fps;
+
+  [[nodiscard]] double measure(const HandHeldMotion& h, Statistic statistic) const {
+    return statistics_with(smooth, h, duration, fps).*statistic;
   }
-  return 0.5 * (lo + hi);
-}
+  // The value of `amplitude` in [0, hi] (hi doubled while too small) at which `statistic`,
+  // increasing in it, reaches `goal`: bisection, a fixed number of steps so that the result is the
+  // same on every run.
+  [[nodiscard]] double solve(HandHeldMotion h, Amplitude amplitude, Statistic statistic, double goal,
+                             double hi) const {
+    const auto f = [&](double x) {
+      h.*amplitude = x;
+      return measure(h, statistic);
+    };
+    double lo = 0.0;
+    while (f(hi) < goal && hi < 64.0) hi *= 2.0;
+    for (int step = 0; step < 40; ++step) {
+      const double mid = 0.5 * (lo + hi);
+      (f(mid) < goal ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+  }
+};
 
 }  // namespace
 
@@ -54,40 +71,17 @@ std::optional<MotionTarget> tum_fr3_motion(const std::string& preset) {
 
 HandHeldMotion match_motion(const CameraMotion& smooth, const MotionTarget& target, double duration,
                             double fps) {
+  const Matcher matcher{smooth, duration, fps};
+  constexpr Statistic speed = &eval::MotionStatistics::mean_speed;
+  constexpr Statistic turn = &eval::MotionStatistics::mean_angular_speed;
   HandHeldMotion h;
-  const auto speed = [&](const HandHeldMotion& m) {
-    return statistics_with(smooth, m, duration, fps).mean_speed;
-  };
-  const auto turn = [&](const HandHeldMotion& m) {
-    return statistics_with(smooth, m, duration, fps).mean_angular_speed;
-  };
   // Translation first: the 1-s displacement's length does not depend on the rotation.
-  if (speed(h) > target.mean_speed) {
-    h.path_scale = solve_increasing(
-        [&](double s) {
-          HandHeldMotion m = h;
-          m.path_scale = s;
-          return speed(m);
-        },
-        target.mean_speed, 1.0);
-  } else {
-    h.translation_sway = solve_increasing(
-        [&](double a) {
-          HandHeldMotion m = h;
-          m.translation_sway = a;
-          return speed(m);
-        },
-        target.mean_speed, 0.1);
-  }
-  if (turn(h) < target.mean_angular_speed) {
-    h.rotation_sway = solve_increasing(
-        [&](double a) {
-          HandHeldMotion m = h;
-          m.rotation_sway = a;
-          return turn(m);
-        },
-        target.mean_angular_speed, 0.1);
-  }
+  if (matcher.measure(h, speed) > target.mean_speed)
+    h.path_scale = matcher.solve(h, &HandHeldMotion::path_scale, speed, target.mean_speed, 1.0);
+  else
+    h.translation_sway = matcher.solve(h, &HandHeldMotion::translation_sway, speed, target.mean_speed, 0.1);
+  if (matcher.measure(h, turn) < target.mean_angular_speed)
+    h.rotation_sway = matcher.solve(h, &HandHeldMotion::rotation_sway, turn, target.mean_angular_speed, 0.1);
   return h;
 }
 

@@ -101,14 +101,11 @@ void StandingUpActor::add_geometry(double t, TriangleSoup& soup) const {
   Eigen::Vector2f p;
   float yaw = 0.0f;
   exit_at(s, p, yaw);
-  const float stride = 1.35f * seated_.look().height / 1.75f;
-  const float phi = 2.0f * static_cast<float>(M_PI) * std::min(s, exit_length_) / stride;
-  // Swings grow over the first steps and die down over the last: at the exit's end they stand.
-  const float amp = std::clamp(std::min(s, exit_length_ - s) / 0.4f, 0.0f, 1.0f);
-  add_humanoid(
-      soup,
-      walking_body(floor_pose(p.x(), p.y(), yaw), phi, amp, static_cast<float>(t), 0.0f, CarriedProp::kNone),
-      seated_.look());
+  // At the exit's end they stand still.
+  add_humanoid(soup,
+               walk_leg_body(floor_pose(p.x(), p.y(), yaw), s, exit_length_, seated_.look(),
+                             static_cast<float>(t), 0.0f),
+               seated_.look());
 }
 
 std::string StandingUpActor::describe() const {

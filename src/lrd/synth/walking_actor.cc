@@ -1,5 +1,6 @@
 #include "lrd/synth/walking_actor.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "lrd/synth/furniture.h"
@@ -36,6 +37,15 @@ BodyPose walking_body(const Eigen::Isometry3f& root, float phi, float amp, float
     }
   }
   return pose;
+}
+
+BodyPose walk_leg_body(const Eigen::Isometry3f& root, float s, float length, const Appearance& look, float tf,
+                       float phase) {
+  s = std::clamp(s, 0.0f, length);
+  const float stride = 1.35f * look.height / 1.75f;
+  const float phi = 2.0f * static_cast<float>(M_PI) * s / stride;
+  const float amp = std::min(1.0f, std::min(s, length - s) / 0.4f);
+  return walking_body(root, phi, amp, tf, phase, CarriedProp::kNone);
 }
 
 WalkingActor::WalkingActor(WalkingParams params, Appearance look, const TextureLibrary& tex, std::string name)

@@ -26,6 +26,11 @@ struct WalkingParams {
 [[nodiscard]] BodyPose walking_body(const Eigen::Isometry3f& root, float phi, float amp, float tf,
                                     float phase, CarriedProp prop);
 
+// An unladen person `s` m into a walk of `length` m (s clamped to it): the stride phase follows the
+// distance, the swings grow over the first steps and die down over the last, standing at either end.
+[[nodiscard]] BodyPose walk_leg_body(const Eigen::Isometry3f& root, float s, float length,
+                                     const Appearance& look, float tf, float phase);
+
 class WalkingActor : public Actor {
  public:
   WalkingActor(WalkingParams params, Appearance look, const TextureLibrary& tex, std::string name);
