@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bench/yardstick.h"
+#include "lrd/config/orbslam_settings.h"
 #include "lrd/io/tum_sequence.h"
 #include "lrd/synth/realism.h"
 #include "lrd/synth/sequence_writer.h"
@@ -29,7 +30,14 @@ inline bool realism_matches(const std::filesystem::path& dir, const lrd::synth::
   if (!meta.contains("realism")) return false;
   nlohmann::json recorded = meta["realism"];
   recorded.erase("camera_motion");  // what the writer measured, beside the parameters
-  return recorded == lrd::synth::realism_json(realism);
+  if (recorded != lrd::synth::realism_json(realism)) return false;
+  // settings.yaml gained the rolling shutter's readout time after the first `tum` renders.
+  try {
+    const double readout = lrd::config::read_orbslam_settings(dir / "settings.yaml").camera.readout_time;
+    return readout == (realism.rolling_shutter ? realism.readout_time : 0.0);
+  } catch (const std::exception&) {
+    return false;
+  }
 }
 
 // cache/PRESET (or cache/PRESET_FRAMES for a prefix; _sN for map-file session N > 1; _tum for

@@ -123,6 +123,7 @@ def test_realism_tum_records_its_effects_and_the_users_calibration(tmp_path):
     values = dict(l.split(": ") for l in settings.splitlines() if l.startswith("Camera.") and ": " in l)
     assert float(values["Camera.k1"]) == pytest.approx(0.2312 - 0.02)
     assert float(values["Camera.fx"]) == pytest.approx(535.4 * 1.006)
+    assert "Camera.readoutTime" not in values  # the rolling shutter is off: a global shutter
     # Ground truth at the motion-capture rate, covering the images.
     gt = [float(l.split()[0]) for l in (seq / "groundtruth.txt").read_text().splitlines() if not l.startswith("#")]
     rgb = [float(l.split()[0]) for l in (seq / "rgb.txt").read_text().splitlines() if not l.startswith("#")]
@@ -135,6 +136,12 @@ def test_realism_tum_records_its_effects_and_the_users_calibration(tmp_path):
     assert run("synth", "--preset", "walking_xyz", "--frames", "1", "--out", str(clean)).returncode == 0
     assert "realism" not in json.loads((clean / "sequence.json").read_text())
     assert "Camera.k1: 0\n" in (clean / "settings.yaml").read_text()
+    assert "readoutTime" not in (clean / "settings.yaml").read_text()
+    # With the rolling shutter on, the calibration carries its readout time (tracking compensates it).
+    rolling = tmp_path / "rolling"
+    assert run("synth", "--preset", "walking_xyz", "--frames", "1", "--realism", "tum",
+               "--out", str(rolling)).returncode == 0
+    assert "Camera.readoutTime: 0.028\n" in (rolling / "settings.yaml").read_text()
 
 
 def test_realism_tum_moves_the_camera_as_fast_as_tums_sequence():

@@ -73,9 +73,15 @@ TEST(Realism, TheUsersCalibrationIsALittleOff) {
   EXPECT_NEAR(cal.fy / camera().fy, 1.0 + tum.focal_error_y, 1e-12);
   EXPECT_NEAR(cal.distortion.k1, tum.rendered_distortion.k1 + tum.k1_error, 1e-12);
   EXPECT_EQ(cal.distortion.k2, tum.rendered_distortion.k2);
+  // A rolling-shutter calibration knows the readout time; without the effect there is none.
+  EXPECT_EQ(cal.readout_time, tum.readout_time);
+  RealismParams global = tum;
+  lrd::synth::disable_realism_effects(global, "rolling_shutter");
+  EXPECT_EQ(lrd::synth::calibrated_camera(camera(), global).readout_time, 0.0);
   const auto clean = lrd::synth::calibrated_camera(camera(), RealismParams{});
   EXPECT_EQ(clean.fx, camera().fx);
   EXPECT_TRUE(clean.distortion.is_zero());
+  EXPECT_EQ(clean.readout_time, 0.0);
 }
 
 TEST(Realism, AutoExposureLengthensForDarkViewsThenRaisesTheGain) {

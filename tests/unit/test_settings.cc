@@ -174,6 +174,25 @@ TEST_F(SettingsTest, OptionalKeysDefault) {
   EXPECT_DOUBLE_EQ(s.camera.th_depth, 35.0);
   EXPECT_DOUBLE_EQ(s.camera.depth_map_factor, 1000.0);
   EXPECT_EQ(s.orb.n_features, 1000);
+  EXPECT_EQ(s.camera.readout_time, 0.0);  // a global shutter
+}
+
+TEST_F(SettingsTest, RollingShutterReadoutTime) {
+  const std::string base =
+      "%YAML:1.0\nCamera.fx: 500\nCamera.fy: 500\nCamera.cx: 320\nCamera.cy: 240\n"
+      "Camera.bf: 40\nThDepth: 35\nDepthMapFactor: 1000\nCamera.fps: 30\n";
+  EXPECT_DOUBLE_EQ(
+      read_orbslam_settings(write("rs.yaml", base + "Camera.readoutTime: 0.028\n")).camera.readout_time,
+      0.028);
+  // Longer than a frame period, or negative: one line naming the file and the key.
+  for (const char* bad : {"0.04", "-0.01"}) {
+    const auto f = write("rs_bad.yaml", base + "Camera.readoutTime: " + bad + "\n");
+    const std::string msg = error_of([&] { (void)read_orbslam_settings(f); });
+    EXPECT_NE(msg.find("rs_bad.yaml"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("Camera.readoutTime"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("must be in [0, 1/fps]"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
 }
 
 TEST_F(SettingsTest, BadInputIsOneLineError) {

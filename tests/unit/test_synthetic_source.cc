@@ -68,6 +68,18 @@ TEST(SyntheticSource, ARunGetsTheSyntheticCameraAndInSemanticModesFnet) {
       << params.segmentation.onnx.model;
 }
 
+TEST(SyntheticSource, ATumRunGetsTheCalibratedCameraWithItsRollingShutter) {
+  synth::SynthOptions tum = walking(1);
+  tum.realism = synth::realism_profile("tum");
+  runner::RunOptions o;
+  o.source = std::make_shared<const synth::SyntheticSource>(tum);
+  const config::Config cfg = runner::resolve_config(o, nullptr);
+  EXPECT_DOUBLE_EQ(cfg.camera.readout_time, tum.realism.readout_time);  // the tracker compensates it
+  EXPECT_NEAR(cfg.camera.fx, camera::camera_preset("tum3").fx * (1.0 + tum.realism.focal_error_x), 1e-9);
+  o.source = std::make_shared<const synth::SyntheticSource>(walking(1));
+  EXPECT_EQ(runner::resolve_config(o, nullptr).camera.readout_time, 0.0);  // clean: a global shutter
+}
+
 TEST(SyntheticSource, AnUnknownPresetIsAnError) {
   synth::SynthOptions o = walking(2);
   o.preset = "no_such_preset";

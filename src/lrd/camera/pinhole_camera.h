@@ -35,6 +35,10 @@ struct PinholeCamera {
   // (Khoshelham & Elberink 2012), and at 1.0 bundle adjustment slides points along their rays by
   // centimetres to absorb sub-pixel keypoint noise (docs/slam-core.md, "Depth weight").
   double disparity_sigma = 0.125;
+  // Rolling shutter: the colour image's rows are read out top to bottom over this time (s),
+  // centred on the frame's stamp ("Camera.readoutTime"; 0: a global shutter). Tracking moves each
+  // keypoint to the stamp by the camera's velocity (tracking/rolling_shutter.h).
+  double readout_time = 0.0;
 
   // chi2 of an RGB-D observation of the camera-frame point p_c (z > 0): the keypoint (u, v) and,
   // with depth (u_right >= 0), the measured disparity u - u_right, each whitened by its sigma;

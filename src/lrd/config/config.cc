@@ -56,6 +56,7 @@ camera::PinholeCamera read_camera(NodeReader& r, std::optional<features::OrbPara
   cam.depth_map_factor = r.get("depth_map_factor", cam.depth_map_factor);
   cam.rgb_order = r.get("rgb_order", cam.rgb_order);
   cam.disparity_sigma = r.get("disparity_sigma", cam.disparity_sigma);
+  cam.readout_time = r.get("readout_time", cam.readout_time);
   r.check(cam.width > 0, "width", "must be > 0");
   r.check(cam.height > 0, "height", "must be > 0");
   r.check(cam.fx > 0.0, "fx", "must be > 0");

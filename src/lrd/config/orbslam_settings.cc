@@ -172,6 +172,8 @@ Settings read_orbslam_settings(const std::filesystem::path& file) {
   cam.fps = f.get("Camera.fps", cam.fps);
   f.check(cam.fps > 0.0, "Camera.fps", "must be > 0");
   cam.rgb_order = f.get_int("Camera.RGB", 1) != 0;
+  // Not an ORB-SLAM key: lrd-slam's rolling-shutter readout (seconds; absent: a global shutter).
+  cam.readout_time = f.get("Camera.readoutTime", 0.0);
 
   if (v3) {
     // ORB-SLAM3 stores the baseline in metres; bf = b * fx as ORB-SLAM3 computes it.
@@ -197,7 +199,8 @@ Settings read_orbslam_settings(const std::filesystem::path& file) {
         {"fps", "Camera.fps"},
         {"bf", v3 ? "Stereo.b" : "Camera.bf"},
         {"th_depth", v3 ? "Stereo.ThDepth" : "ThDepth"},
-        {"depth_map_factor", v3 ? "RGBD.DepthMapFactor" : "DepthMapFactor"}};
+        {"depth_map_factor", v3 ? "RGBD.DepthMapFactor" : "DepthMapFactor"},
+        {"readout_time", "Camera.readoutTime"}};
     const auto it = key.find(bad->field);
     f.check(false, it != key.end() ? it->second : c + bad->field, bad->problem);
   }

@@ -43,6 +43,10 @@ std::optional<Implausible> implausible_camera(const camera::PinholeCamera& c) {
     return Implausible{"depth_map_factor", "must be in [0.001, 1e6]"};
   if (!positive_up_to(c.disparity_sigma, 100.0))
     return Implausible{"disparity_sigma", "must be in (0, 100] pixels"};
+  // Rows are read out within one frame period (a negative time is no sensor's).
+  if (!within(c.readout_time, 0.0, 1.0 / c.fps))
+    return Implausible{"readout_time",
+                       fmt::format("must be in [0, 1/fps] = [0, {:.4f}] seconds", 1.0 / c.fps)};
   return std::nullopt;
 }
 

@@ -132,6 +132,18 @@ void Frame::remove_keypoints(const std::vector<bool>& drop) {
   build_grid();
 }
 
+void Frame::move_keypoints(const std::vector<cv::Point2f>& undistorted, const std::vector<float>& depth) {
+  const std::size_t n = keypoints_.size();
+  if (undistorted.size() != n || depth.size() != n)
+    throw Error("frame: move_keypoints needs one position and one depth per keypoint");
+  for (std::size_t i = 0; i < n; ++i) {
+    undistorted_[i].pt = undistorted[i];
+    depth_[i] = depth[i] > 0.0f ? depth[i] : -1.0f;
+    u_right_[i] = depth[i] > 0.0f ? undistorted[i].x - static_cast<float>(camera_.bf) / depth[i] : -1.0f;
+  }
+  build_grid();
+}
+
 void Frame::build_grid() {
   // Compressed rows (a counting sort): cell k's keypoints are grid_index_[grid_start_[k] ..
   // grid_start_[k + 1]), in keypoint order. A vector per cell would cost 74 KB of empty vector

@@ -57,6 +57,10 @@ class Frame {
   // Removes the keypoints with drop[i] set (dynamic ones found after extraction, paper
   // Algorithm 1), with their descriptors, depths and matches; the grid is rebuilt.
   void remove_keypoints(const std::vector<bool>& drop);
+  // Moves the keypoints' undistorted positions and depths (one of each per keypoint, depth <= 0:
+  // none), e.g. to where a rolling shutter would have seen them at the stamp; the detected
+  // positions stay as they were. The grid is rebuilt.
+  void move_keypoints(const std::vector<cv::Point2f>& undistorted, const std::vector<float>& depth);
 
   [[nodiscard]] std::uint64_t id() const { return id_; }
   [[nodiscard]] double timestamp() const { return timestamp_; }

@@ -163,7 +163,13 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
           judged += judged_in[static_cast<std::size_t>(y * cells_x + x)];
           moving += seeds_in[static_cast<std::size_t>(y * cells_x + x)];
         }
-      if (moving >= params_.min_seeds && moving >= params_.seed_support * judged) supported.push_back(seed);
+      if (moving < params_.min_seeds || moving < params_.seed_support * judged) continue;
+      // A seed on an object the segmentation already masked adds nothing, and grown from there the
+      // region leaks into what the object touches: a seated person into the chair and the desk.
+      if (frame.dynamic_mask.size() == depth.size() &&
+          frame.dynamic_mask.at<std::uint8_t>(static_cast<int>(seed.v), static_cast<int>(seed.u)) != 0)
+        continue;
+      supported.push_back(seed);
     }
     seeds.swap(supported);
   }

@@ -18,7 +18,8 @@ struct SourceCamera {
   int width = 0, height = 0;
   double fx = 0.0, fy = 0.0, cx = 0.0, cy = 0.0;
   double k1 = 0.0, k2 = 0.0, p1 = 0.0, p2 = 0.0, k3 = 0.0;
-  std::string origin;  // where it was read, for the run's "camera:" line
+  double readout_time = 0.0;  // s: a rolling shutter's (camera::PinholeCamera::readout_time)
+  std::string origin;         // where it was read, for the run's "camera:" line
 };
 
 class FrameSource {

@@ -21,6 +21,7 @@ camera::PinholeCamera camera_from_source(const io::SourceCamera& s, camera::Pinh
   c.cx = s.cx;
   c.cy = s.cy;
   c.distortion = {s.k1, s.k2, s.p1, s.p2, s.k3};
+  c.readout_time = s.readout_time;
   return c;
 }
 

@@ -120,6 +120,8 @@ nlohmann::json realism_json(const RealismParams& p) {
 camera::PinholeCamera calibrated_camera(const camera::PinholeCamera& truth, const RealismParams& p) {
   camera::PinholeCamera cam = truth;
   if (p.distortion) cam.distortion = p.rendered_distortion;
+  // The readout time is part of the calibration (a rolling-shutter calibration estimates it).
+  if (p.rolling_shutter) cam.readout_time = p.readout_time;
   if (p.calibration_error) {
     cam.fx *= 1.0 + p.focal_error_x;
     cam.fy *= 1.0 + p.focal_error_y;

@@ -54,6 +54,10 @@ void write_orbslam_settings(const fs::path& file, const camera::PinholeCamera& c
       "ORBextractor.nLevels: 8\nORBextractor.iniThFAST: 20\nORBextractor.minThFAST: 7\n",
       c.fx, c.fy, c.cx, c.cy, c.distortion.k1, c.distortion.k2, c.distortion.p1, c.distortion.p2,
       c.distortion.k3, c.width, c.height, c.fps, c.bf, c.rgb_order ? 1 : 0, c.th_depth, c.depth_map_factor);
+  // lrd-slam's own key, only for a rolling-shutter camera (clean sequences stay as they were).
+  if (c.readout_time > 0.0)
+    out.print("\n# Rolling shutter: rows read out over this time (s).\nCamera.readoutTime: {}\n",
+              c.readout_time);
 }
 
 SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,

@@ -14,6 +14,7 @@
 #include "lrd/map/map_point.h"
 #include "lrd/mapping/local_mapper.h"
 #include "lrd/match/frustum.h"
+#include "lrd/tracking/rolling_shutter.h"
 
 namespace lrd::tracking {
 
@@ -150,6 +151,10 @@ bool Tracker::track_frame(data::Frame& frame, TrackOutcome& outcome) {
       recovered_frame_id_ = frame.id();
     }
   } else if (state_ == TrackingState::Ok) {
+    // Keypoints to the stamp before any matching (a global shutter: nothing moves).
+    if (velocity_)
+      compensate_rolling_shutter(frame, *velocity_,
+                                 frame_period_ > 0.0 ? frame_period_ : 1.0 / frame.camera().fps);
     if (velocity_ && !recently_recovered(frame)) ok = track_with_motion_model(frame);
     if (!ok) ok = track_reference_keyframe(frame);
   } else {
