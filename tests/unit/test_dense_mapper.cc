@@ -4,6 +4,7 @@
 // stored clouds (issue 23, item 4).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <mutex>
@@ -21,11 +22,12 @@
 namespace {
 
 struct Scene {
-  Scene()
-      : seq([] {
+  explicit Scene(lrd::synth::RealismParams realism = {})
+      : seq([&] {
           lrd::synth::SynthOptions o;
           o.preset = "walking_xyz";
           o.frames = 40;
+          o.realism = realism;
           return o;
         }()),
         undistorter(seq.camera()) {}
@@ -96,6 +98,53 @@ TEST(DenseMapper, PointsMoveWithTheirKeyframesAndPeopleStayOut) {
   }
   EXPECT_LT(on_people, 20);
   EXPECT_GT(cv::countNonZero(f.mask), 10000);
+}
+
+// A lens that distorts (the `tum` profile renders TUM fr2's): the dense stage undistorts each
+// keyframe before back-projecting it, so its points lie where the scene is: seen through the ideal
+// camera (the same frame rendered without the lens), each point's pixel has the point's depth.
+// Read as pinhole pixels, the points near the border go out along the wrong rays.
+TEST(DenseMapper, ADistortedKeyframeIsUndistortedBeforeItsPointsAreMade) {
+  lrd::synth::RealismParams lens = lrd::synth::realism_profile("tum");
+  std::string others;
+  for (const std::string& effect : lrd::synth::realism_effects())
+    if (effect != "distortion") others += (others.empty() ? "" : ",") + effect;
+  lrd::synth::disable_realism_effects(lens, others);
+  Scene s(lens);
+  ASSERT_FALSE(s.seq.camera().distortion.is_zero());
+  const Scene ideal;  // the same frame through the ideal camera
+  const lrd::synth::SynthFrame truth = ideal.seq.render(0);
+  const lrd::camera::PinholeCamera& cam = ideal.seq.camera();
+  const Eigen::Isometry3f T_cw = truth.pose.inverse().cast<float>();
+  // Share of the cloud's points whose depth agrees (2 cm) with the ideal view's at their pixel.
+  const auto agreement = [&](const lrd::camera::PinholeCamera& camera) {
+    lrd::map::Map map;
+    lrd::dense::DenseParams params;
+    params.enabled = true;
+    lrd::dense::DenseMapper dense(map, camera, params, /*threaded=*/false);
+    (void)s.add(map, dense, 0);
+    dense.process_queued();
+    const lrd::dense::PointCloud cloud = dense.cloud();
+    EXPECT_GT(cloud.size(), 10000u);
+    int compared = 0, agree = 0;
+    for (const Eigen::Vector3f& p : cloud.points) {
+      const Eigen::Vector3f c = T_cw * p;
+      const int u = static_cast<int>(std::lround(cam.fx * c.x() / c.z() + cam.cx));
+      const int v = static_cast<int>(std::lround(cam.fy * c.y() / c.z() + cam.cy));
+      if (u < 0 || v < 0 || u >= cam.width || v >= cam.height) continue;
+      const double z = truth.depth.at<std::uint16_t>(v, u) / cam.depth_map_factor;
+      if (z <= 0.0) continue;
+      ++compared;
+      agree += std::abs(z - c.z()) < 0.02;
+    }
+    return static_cast<double>(agree) / std::max(1, compared);
+  };
+  const double undistorted = agreement(s.seq.camera());
+  lrd::camera::PinholeCamera pinhole = s.seq.camera();
+  pinhole.distortion = {};
+  const double raw = agreement(pinhole);  // the same images read as pinhole ones
+  EXPECT_GT(undistorted, 0.97);           // measured 0.99
+  EXPECT_LT(raw, 0.8);                    // measured 0.51
 }
 
 TEST(DenseMapper, AnErrorInTheThreadComesBackFromShutdown) {

@@ -23,6 +23,7 @@ DenseMapper::DenseMapper(map::Map& map, const camera::PinholeCamera& camera, con
     : map_(map),
       camera_(camera),
       coarse_camera_(coarse_camera(camera, kCoarse)),
+      undistorter_(camera),
       params_(params),
       repairer_(camera, params.repair) {
   storage_.max_memory_mb = params.max_memory_mb;
@@ -120,6 +121,12 @@ void DenseMapper::run() {
 
 void DenseMapper::process(Pending p) {
   util::check_fault_point("dense");
+  // Everything below is pinhole: a distorted keyframe is resampled once, here on the dense thread.
+  if (undistorter_.active()) {
+    p.view.bgr = undistorter_.smooth(p.view.bgr);
+    p.view.depth = undistorter_.nearest(p.view.depth);
+    p.view.dynamic = undistorter_.nearest(p.view.dynamic);
+  }
   // Current poses of this keyframe and of the repair sources (local BA may have moved them since).
   {
     std::lock_guard lock(map_.mutex());

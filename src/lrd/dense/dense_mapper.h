@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "lrd/camera/image_undistorter.h"
 #include "lrd/camera/pinhole_camera.h"
 #include "lrd/dense/background_repairer.h"
 #include "lrd/dense/dense_params.h"
@@ -121,6 +122,7 @@ class DenseMapper {
   map::Map& map_;
   camera::PinholeCamera camera_;
   camera::PinholeCamera coarse_camera_;
+  camera::ImageUndistorter undistorter_;
   DenseParams params_;
   BackgroundRepairer repairer_;
   UpdateCallback on_update_;

@@ -26,9 +26,12 @@ cv::Mat depth_png(const cv::Mat& metres, double factor) {
 }
 }  // namespace
 
-RepairRecorder::RepairRecorder(const io::FrameSource& sequence, double depth_factor,
+RepairRecorder::RepairRecorder(const io::FrameSource& sequence, const camera::PinholeCamera& camera,
                                std::optional<fs::path> save_dir)
-    : sequence_(sequence), depth_factor_(depth_factor), save_dir_(std::move(save_dir)) {
+    : sequence_(sequence),
+      depth_factor_(camera.depth_map_factor),
+      undistorter_(camera),
+      save_dir_(std::move(save_dir)) {
   has_truth_ = sequence.folder() && fs::is_directory(*sequence.folder() / "static" / "depth");
   for (std::size_t i = 0; i < sequence.size(); ++i) by_stamp_[micros(sequence.entry(i).timestamp)] = i;
   if (save_dir_) {
@@ -69,8 +72,13 @@ RepairRecorder::DepthError RepairRecorder::depth_error() const {
   std::lock_guard lock(mutex_);
   std::vector<float> errors;
   for (const Filled& f : filled_) {
-    const cv::Mat truth = cv::imread(f.truth.string(), cv::IMREAD_UNCHANGED);
+    cv::Mat truth = cv::imread(f.truth.string(), cv::IMREAD_UNCHANGED);
     if (truth.empty() || truth.type() != CV_16UC1) continue;
+    try {
+      truth = undistorter_.nearest(truth);
+    } catch (const Error&) {
+      continue;  // not the camera's size: nothing to compare
+    }
     for (std::size_t i = 0; i < f.pixels.size(); ++i) {
       if (f.pixels[i] >= static_cast<int>(truth.total())) break;
       const std::uint16_t raw = truth.at<std::uint16_t>(f.pixels[i]);

@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "lrd/camera/image_undistorter.h"
 #include "lrd/camera/pinhole_camera.h"
 #include "lrd/dense/background_repairer.h"
 #include "lrd/dense/point_cloud.h"
@@ -23,7 +24,9 @@ namespace lrd::runner {
 // (static/depth/).
 class RepairRecorder final : public events::Subscriber {
  public:
-  RepairRecorder(const io::FrameSource& sequence, double depth_factor,
+  // `camera`: the run's; with a lens distortion the dense stage works on undistorted keyframes
+  // (camera/image_undistorter.h), and static/depth is resampled alike before comparing.
+  RepairRecorder(const io::FrameSource& sequence, const camera::PinholeCamera& camera,
                  std::optional<std::filesystem::path> save_dir);
 
   void on_dense_map(const events::DenseMapUpdated& e) override {
@@ -45,6 +48,7 @@ class RepairRecorder final : public events::Subscriber {
  private:
   const io::FrameSource& sequence_;
   double depth_factor_;
+  camera::ImageUndistorter undistorter_;
   std::optional<std::filesystem::path> save_dir_;
   bool has_truth_ = false;
   std::unordered_map<long long, std::size_t> by_stamp_;  // rgb timestamp in microseconds -> entry

@@ -166,7 +166,7 @@ RunReport run_sequence(const RunOptions& options) {
   report.loaded_map = o.load_map;
   report.localization_only = o.localization_only;
   if (slam.dense_enabled()) {
-    repairs = std::make_shared<RepairRecorder>(seq, cfg.camera.depth_map_factor, o.save_repaired);
+    repairs = std::make_shared<RepairRecorder>(seq, cfg.camera, o.save_repaired);
     slam.subscribe(repairs);
   }
   slam.subscribe(recorder);
