@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -22,9 +23,17 @@ double now() {
 }
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   const std::string preset = argc > 1 ? argv[1] : "walking_xyz";
+  if (preset == "-h" || preset == "--help") {
+    std::printf("Usage: bench_synth [PRESET] [FRAMES] [clean|tum]  (default: walking_xyz 900 clean)\n");
+    return 0;
+  }
   const int frames = argc > 2 ? std::atoi(argv[2]) : 900;
+  if (frames <= 0) {
+    std::fprintf(stderr, "bench_synth: FRAMES must be a positive number, not '%s'\n", argv[2]);
+    return 1;
+  }
   // A third argument: the realism profile (clean, tum).
   const std::string realism = argc > 3 ? argv[3] : "clean";
   if (realism != "clean" && realism != "tum") {
@@ -79,4 +88,13 @@ int main(int argc, char** argv) {
              preset, s.frames, s.seconds, s.frames / s.seconds, 900.0 * s.seconds / s.frames,
              realism == "tum" ? 180 : 60);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {  // an unknown preset, an unwritable temporary folder
+    std::fprintf(stderr, "bench_synth: %s\n", e.what());
+    return 1;
+  }
 }
