@@ -45,21 +45,9 @@ std::string SyntheticSource::describe(std::size_t i) const {
 std::optional<io::SourceCamera> SyntheticSource::camera() const {
   const camera::PinholeCamera& c = sequence_->camera();
   const camera::Distortion& d = c.distortion;
-  io::SourceCamera s;
-  s.width = c.width;
-  s.height = c.height;
-  s.fx = c.fx;
-  s.fy = c.fy;
-  s.cx = c.cx;
-  s.cy = c.cy;
-  s.k1 = d.k1;
-  s.k2 = d.k2;
-  s.p1 = d.p1;
-  s.p2 = d.p2;
-  s.k3 = d.k3;
-  s.readout_time = c.readout_time;
-  s.origin = "the synthetic camera of " + name_;
-  return s;
+  const std::string origin = "the synthetic camera of " + name_;
+  return io::SourceCamera{c.width, c.height, c.fx, c.fy, c.cx,           c.cy,  d.k1,
+                          d.k2,    d.p1,     d.p2, d.k3, c.readout_time, origin};
 }
 
 }  // namespace lrd::synth
