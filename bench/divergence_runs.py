@@ -5,7 +5,7 @@ accepted and rejected.
 
     bench/divergence_runs.py [--presets walking_xyz,walking_static,walking_rpy,walking_halfsphere]
                              [--runs 20] [--mode static] [--load 2] [--cache DIR] [--out DIR]
-                             [--bin build/release/bin/lrdslam]
+                             [--bin build/release/bin/lrdslam] [--log-level debug]
 
 --load N starts N busy processes (one per core by default) for the whole hunt, so the threads
 interleave as they do on a loaded robot. Bars (the issue's): in `static` mode no run with a jump
@@ -16,6 +16,7 @@ import json
 import math
 import multiprocessing
 import os
+import re
 import subprocess
 import sys
 import time
@@ -42,6 +43,29 @@ def largest_jump(trajectory_file):
     return worst, at
 
 
+LIVE_POSE = re.compile(r"frame (\d+): tracked at \(([-\d.]+), ([-\d.]+), ([-\d.]+)\)")
+
+
+def largest_live_jump(log):
+    """With --log-level debug: the largest distance between the live poses of two consecutive
+    tracked frames (what tracking itself did, before any later correction), and the frame."""
+    previous, worst, at = None, 0.0, 0
+    for line in log.splitlines():
+        m = LIVE_POSE.search(line)
+        if not m:
+            continue
+        frame, position = int(m.group(1)), [float(v) for v in m.groups()[1:]]
+        if previous is not None and previous[0] == frame - 1 and math.dist(position, previous[1]) > worst:
+            worst, at = math.dist(position, previous[1]), frame
+        previous = (frame, position)
+    return worst, at
+
+
+def live_column(log):
+    jump, frame = largest_live_jump(log)
+    return f"  {jump:>11.3f} ({frame})"
+
+
 def ensure_sequence(binary, cache, preset):
     folder = os.path.join(cache, preset)
     if not os.path.exists(os.path.join(folder, "associations.txt")):
@@ -59,6 +83,8 @@ def main():
     ap.add_argument("--cache", default="out/bench/sequences")
     ap.add_argument("--out", default="out/bench/divergence")
     ap.add_argument("--bin", default="build/release/bin/lrdslam")
+    ap.add_argument("--log-level", default="info",
+                    help="of each run.log; debug adds every frame's live pose and reference keyframe")
     a = ap.parse_args()
 
     presets = a.presets.split(",")
@@ -71,13 +97,14 @@ def main():
     failed = []
     print(f"divergence hunt: {a.runs} threaded runs per preset, mode {a.mode}, {a.load} busy processes")
     print(f"{'preset':<19} {'run':>3} {'ATE cm':>9} {'jump m':>8} {'jump at':>17} {'loops':>5} {'rejected':>8} "
-          f"{'BA not merged':>13} {'lost':>5}")
+          f"{'BA not merged':>13} {'lost':>5}" + ("  live jump m (frame)" if a.log_level == "debug" else ""))
     try:
         for preset in presets:
             sequence = os.path.join(a.cache, preset)
             for run in range(1, a.runs + 1):
                 out = os.path.join(a.out, f"{preset}_{a.mode}_{run}")
-                r = subprocess.run([a.bin, "run", "--sequence", sequence, "--mode", a.mode, "--out", out],
+                r = subprocess.run([a.bin, "--log-level", a.log_level, "run", "--sequence", sequence, "--mode", a.mode,
+                                    "--out", out],
                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
                 os.makedirs(out, exist_ok=True)
                 with open(os.path.join(out, "run.log"), "w") as f:  # the loops and BAs behind a jump
@@ -92,7 +119,7 @@ def main():
                 jump, jump_at = largest_jump(os.path.join(out, "CameraTrajectory.txt"))
                 print(f"{preset:<19} {run:>3} {100 * ate:>9.2f} {jump:>8.3f} {jump_at:>17.6f} {len(s['loops']):>5} "
                       f"{s.get('rejected_loops', 0):>8} {s.get('implausible_global_bundle_adjustments', 0):>13} "
-                      f"{s['lost']:>5}", flush=True)
+                      f"{s['lost']:>5}" + (live_column(r.stdout) if a.log_level == "debug" else ""), flush=True)
                 if a.mode == "full" and ate > 0.02:
                     failed.append((preset, run, f"ATE {100 * ate:.2f} cm > 2 cm"))
                 if a.mode != "full" and (jump > 0.5 or ate > 2.0):

@@ -33,7 +33,8 @@ struct Scene {
         undistorter(seq.camera()) {}
 
   // Keyframe of frame i in `map` at its ground-truth pose, and its images for the dense mapper.
-  lrd::map::KeyFrame* add(lrd::map::Map& map, lrd::dense::DenseMapper& dense, int i) {
+  lrd::map::KeyFrame* add(lrd::map::Map& map, lrd::dense::DenseMapper& dense, int i,
+                          bool mask_carried = false) {
     const lrd::synth::SynthFrame f = seq.render(i);
     cv::Mat grey, depth;
     cv::cvtColor(f.rgb, grey, cv::COLOR_BGR2GRAY);
@@ -46,7 +47,7 @@ struct Scene {
       std::lock_guard lock(map.mutex());
       kf = map.create_keyframe(frame);
     }
-    dense.add_keyframe(kf, f.rgb.clone(), depth, f.mask != 0);
+    dense.add_keyframe(kf, f.rgb.clone(), depth, f.mask != 0, mask_carried);
     return kf;
   }
 
@@ -145,6 +146,36 @@ TEST(DenseMapper, ADistortedKeyframeIsUndistortedBeforeItsPointsAreMade) {
   const double raw = agreement(pinhole);  // the same images read as pinhole ones
   EXPECT_GT(undistorted, 0.97);           // measured 0.99
   EXPECT_LT(raw, 0.8);                    // measured 0.51
+}
+
+// The occupancy map's classes of a keyframe's points (docs/occupancy.md): its own depth beyond
+// dense.mask_margin_px of the mask counts at once, unless the mask was carried from an earlier
+// frame (async segmentation: it lags the people); then all of it waits for confirmation.
+TEST(DenseMapper, OwnDepthIsTrustedOnlyFarFromAMaskMadeForTheKeyframe) {
+  Scene s;
+  const auto cloud_of = [&](bool mask_carried) {
+    lrd::map::Map map;
+    lrd::dense::DenseParams params;
+    params.enabled = true;
+    params.repair.enabled = false;
+    lrd::dense::DenseMapper dense(map, s.seq.camera(), params, /*threaded=*/false);
+    (void)s.add(map, dense, 0, mask_carried);
+    dense.process_queued();
+    const auto clouds = dense.keyframe_clouds();
+    EXPECT_EQ(clouds.size(), 1u);
+    return clouds.at(0);
+  };
+  const auto own = cloud_of(false);
+  const auto carried = cloud_of(true);
+  const std::size_t points = own.local->size();
+  ASSERT_GT(points, 10000u);
+  // The same pixels (people left out), in other classes (the per-part thinning differs a little).
+  EXPECT_NEAR(static_cast<double>(carried.local->size()), static_cast<double>(points), 0.01 * points);
+  EXPECT_EQ(own.measured, points);
+  EXPECT_GT(own.trusted, points / 2);  // most of the room is far from the people
+  EXPECT_LT(own.trusted, points - points / 20) << own.trusted << " of " << points;  // the margin holds some
+  EXPECT_EQ(carried.trusted, 0u);
+  EXPECT_EQ(carried.measured, carried.local->size());
 }
 
 TEST(DenseMapper, AnErrorInTheThreadComesBackFromShutdown) {

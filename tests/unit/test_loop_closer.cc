@@ -214,6 +214,51 @@ TEST(LoopCloser, WithoutAConsistentLoopNothingMoves) {
   EXPECT_TRUE(s.back[1]->is_bad());
 }
 
+// The same scene with the second visit hung under the first visit's last keyframe in the spanning
+// tree: its whole 33 cm drift then sits on that one edge, and closing the loop would change the
+// edge by as much (two keyframes a moment apart, torn 33 cm apart in the trajectory). The dry run
+// of the pose graph sees it and the loop is refused before anything moves; allowed such a change,
+// the same loop closes and moves that edge by the drift.
+TEST(LoopCloser, ACorrectionThatWouldTearTheSpanningTreeIsRefused) {
+  struct Outcome {
+    lrd::loop::LoopCloserStats stats;
+    std::size_t big_changes = 0;
+    bool poses_kept = true;
+    double edge_change_m = 0.0;  // of back[0] against first[3]
+  };
+  const auto close = [](double max_change_m) {
+    ClosingScene c;
+    LoopScene& s = c.s;
+    s.back[0]->change_parent(s.first[3]);
+    EXPECT_EQ(s.back[0]->parent(), s.first[3]);
+    const Eigen::Isometry3d edge_before = s.back[0]->T_cw() * s.first[3]->T_cw().inverse();
+    std::vector<Eigen::Matrix4d> before;
+    for (KeyFrame* kf : c.all()) before.push_back(kf->T_cw().matrix());
+    lrd::mapping::LocalMapper mapper(s.map, {}, false);
+    LoopClosingParams p = params(false);
+    p.pose_graph_max_edge_change_m = max_change_m;
+    LoopCloser closer(s.map, c.db, mapper, p, false);
+    for (KeyFrame* kf : s.back) {
+      closer.insert_keyframe(kf);
+      closer.process_queued();
+    }
+    Outcome o{closer.stats(), s.map.big_change_index(), true, 0.0};
+    for (std::size_t k = 0; k < before.size(); ++k) o.poses_kept &= c.all()[k]->T_cw().matrix() == before[k];
+    const Eigen::Isometry3d edge_after = s.back[0]->T_cw() * s.first[3]->T_cw().inverse();
+    o.edge_change_m = (edge_before.inverse() * edge_after).translation().norm();
+    return o;
+  };
+  const Outcome refused = close(0.25);  // the default
+  EXPECT_TRUE(refused.stats.loops.empty());
+  EXPECT_EQ(refused.stats.rejected_loops, 1);
+  EXPECT_EQ(refused.big_changes, 0u);
+  EXPECT_TRUE(refused.poses_kept);
+  const Outcome allowed = close(1.0);
+  EXPECT_EQ(allowed.stats.loops.size(), 1u);
+  EXPECT_EQ(allowed.stats.rejected_loops, 0);
+  EXPECT_GT(allowed.edge_change_m, 0.25);
+}
+
 // A failure in the global-BA thread (injected, util/fault_injection.h) is kept for the owner with
 // the thread's name; the loop-closing thread and shutdown go on without std::terminate.
 TEST(LoopCloser, AGlobalBaFailureIsKeptNamingItsThread) {

@@ -43,10 +43,17 @@ RayBundle view(const Eigen::Vector3d& origin, double depth, double box_z = 0.0, 
   return r;
 }
 
+// Every hit counts at once (plain OctoMap): the ray casting itself, one view at a time.
+OccupancyParams plain() {
+  OccupancyParams p;
+  p.min_hit_keyframes = 1;
+  return p;
+}
+
 }  // namespace
 
 TEST(OccupancyMap, RaysAreFreeAlongTheWayAndOccupiedAtTheirEnd) {
-  OccupancyMap map(OccupancyParams{});
+  OccupancyMap map(plain());
   map.integrate(view(Eigen::Vector3d::Zero(), 2.0));
   EXPECT_EQ(map.state_at({0.0, 0.0, 0.5}), VoxelState::Free);
   EXPECT_EQ(map.state_at({0.3, -0.2, 1.5}), VoxelState::Free);
@@ -78,7 +85,7 @@ TEST(OccupancyMap, RaysBeyondTheRangeOnlyCarve) {
 TEST(OccupancyMap, APersonWhoWalkedAcrossTheCorridorIsCarvedOut) {
   // A person (a slab 40 cm wide at 1.5 m) in the first view, gone in the next ones from nearby
   // viewpoints: their rays to the wall pass where the person stood.
-  OccupancyMap map(OccupancyParams{});
+  OccupancyMap map(plain());
   map.integrate(view(Eigen::Vector3d::Zero(), 3.0, 1.5));
   EXPECT_EQ(map.state_at({0.0, 0.0, 1.51}), VoxelState::Occupied);
   for (int k = 1; k <= 4; ++k) map.integrate(view(Eigen::Vector3d(0.02 * k, 0.0, 0.0), 3.0));
@@ -95,6 +102,84 @@ TEST(OccupancyMap, APersonStandingStillAllAlongStaysOccupied) {
   EXPECT_EQ(map.state_at({0.0, 0.0, 3.01}), VoxelState::Unknown);  // hidden behind them
 }
 
+// The bundle's points nearer than `z` (a slab in front of the wall: a part of a walker the mask
+// missed) as the dense stage gives them: after the trusted ones, as measured next to the mask.
+RayBundle slab_near_the_mask(RayBundle r, double timestamp, float z = 2.0f) {
+  RayBundle out;
+  out.timestamp = timestamp;
+  out.origin = r.origin;
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) out.trusted = out.points.size();
+    for (std::size_t i = 0; i < r.points.size(); ++i)
+      if ((r.depth[i] < z) == (pass == 1)) {
+        out.points.push_back(r.points[i]);
+        out.depth.push_back(r.depth[i]);
+        out.hit.push_back(r.hit[i]);
+      }
+  }
+  out.measured = out.points.size();
+  return out;
+}
+
+TEST(OccupancyMap, APartOfAWalkerTheMaskMissedInOneKeyframeIsNoObstacle) {
+  // The default map: a voxel hit next to the mask is a surface once two keyframes at least 1 s
+  // apart measured it. The missed part (a slab at 1.5 m, x in [-0.1, 0.1]) is elsewhere a second
+  // later (the person walked on: x in [0.17, 0.37]); the wall, away from the mask, is a surface at
+  // once.
+  const auto slab_at = [](double x0, double x1, double t) {
+    return slab_near_the_mask(view(Eigen::Vector3d(0.02 * t, 0.0, 0.0), 3.0, 1.5, x0, x1), t);
+  };
+  OccupancyMap map(OccupancyParams{});
+  map.integrate(slab_at(-0.2, 0.2, 0.0));
+  EXPECT_NE(map.state_at({0.0, 0.0, 1.51}), VoxelState::Occupied);
+  EXPECT_EQ(map.state_at({-0.6, 0.0, 3.01}), VoxelState::Occupied);
+  map.integrate(slab_at(0.3, 0.7, 1.0));
+  EXPECT_NE(map.state_at({0.0, 0.0, 1.51}), VoxelState::Occupied);
+  EXPECT_NE(map.state_at({0.27, 0.0, 1.51}), VoxelState::Occupied);
+  EXPECT_EQ(map.state_at({0.9, 0.2, 3.01}), VoxelState::Occupied);
+  // A keyframe a moment later (a person filling the view adds keyframes fast) sees the slab where
+  // it was: not a second, independent measurement.
+  map.integrate(slab_at(0.3, 0.7, 1.1));
+  EXPECT_NE(map.state_at({0.27, 0.0, 1.51}), VoxelState::Occupied);
+  // Measured again a second later, the slab is a surface (what stands still).
+  map.integrate(slab_at(0.3, 0.7, 2.0));
+  EXPECT_EQ(map.state_at({0.27, 0.0, 1.51}), VoxelState::Occupied);
+  // Plain OctoMap keeps the first slab: one miss from the second view does not outweigh a hit.
+  OccupancyMap every_hit(plain());
+  every_hit.integrate(slab_at(-0.2, 0.2, 0.0));
+  every_hit.integrate(slab_at(0.3, 0.7, 1.0));
+  EXPECT_EQ(every_hit.state_at({0.0, 0.0, 1.51}), VoxelState::Occupied);
+}
+
+TEST(OccupancyMap, AMissedPartCopiedByTheRepairIntoLaterKeyframesDoesNotConfirmItself) {
+  // The first keyframe measured a slab at 1.5 m next to its mask (a part of a walker the mask
+  // missed); the repair copies it into the next keyframes' filled-in background, at the same
+  // place in the world.
+  const RayBundle first = slab_near_the_mask(view(Eigen::Vector3d::Zero(), 3.0, 1.5), 0.0);
+  const auto later = [&](const Eigen::Vector3d& origin, bool copies_measured) {
+    RayBundle r = view(origin, 3.0);
+    r.timestamp = 50.0 * origin.x();  // 1 s apart
+    r.trusted = r.points.size();
+    for (std::size_t i = first.trusted; i < first.points.size(); ++i) {
+      r.points.push_back(first.points[i]);
+      r.depth.push_back(static_cast<float>(first.points[i].z() - origin.z()));
+      r.hit.push_back(1);
+    }
+    r.measured = copies_measured ? r.points.size() : r.trusted;
+    return r;
+  };
+  OccupancyMap repaired(OccupancyParams{});
+  repaired.integrate(first);
+  for (int k = 1; k <= 2; ++k) repaired.integrate(later(Eigen::Vector3d(0.02 * k, 0.0, 0.0), false));
+  EXPECT_NE(repaired.state_at({0.0, 0.0, 1.51}), VoxelState::Occupied);
+  EXPECT_EQ(repaired.state_at({0.6, 0.0, 3.01}), VoxelState::Occupied);
+  // Had the later keyframes measured it themselves, it would be a surface.
+  OccupancyMap measured(OccupancyParams{});
+  measured.integrate(first);
+  for (int k = 1; k <= 2; ++k) measured.integrate(later(Eigen::Vector3d(0.02 * k, 0.0, 0.0), true));
+  EXPECT_EQ(measured.state_at({0.0, 0.0, 1.51}), VoxelState::Occupied);
+}
+
 TEST(OccupancyMap, PointsSeenThroughCarveTheirVoxelInsteadOfMarkingIt) {
   RayBundle r = view(Eigen::Vector3d::Zero(), 2.0);
   for (char& h : r.hit) h = 0;
@@ -106,7 +191,7 @@ TEST(OccupancyMap, PointsSeenThroughCarveTheirVoxelInsteadOfMarkingIt) {
 
 TEST(OccupancyMap, TheBinaryFileReadsBackTheSameMap) {
   lrd::test::TempDir dir("occupancy_bt");
-  OccupancyMap map(OccupancyParams{});
+  OccupancyMap map(plain());
   map.integrate(view(Eigen::Vector3d::Zero(), 2.0, 1.0));
   map.write_binary(dir.path() / "occupancy.bt");
   const OccupancyMap back = OccupancyMap::read_binary(dir.path() / "occupancy.bt", OccupancyParams{});
@@ -150,7 +235,7 @@ OccupancyMap room(double tilt_deg, Eigen::Matrix3d& world_to_map, std::vector<Ei
     for (double y = 1.75; y <= 2.25; y += 0.02) add({x, y, 0.5});
   for (double x = -0.25; x <= 0.25; x += 0.02)
     for (double z = 0.0; z <= 0.5; z += 0.02) add({x, 1.75, z});
-  OccupancyParams p;
+  OccupancyParams p = plain();
   p.max_range = 4.0;
   OccupancyMap map(p);
   map.integrate(r);
@@ -256,6 +341,10 @@ TEST(OccupancyParams, BadSettingsAreOneLineErrorsNamingTheKey) {
   EXPECT_NE(e.find("occupancy.floor_height"), std::string::npos) << e;
   e = error_for("  up: [0, 0]\n");
   EXPECT_NE(e.find("occupancy.up"), std::string::npos) << e;
+  e = error_for("  min_hit_keyframes: 0\n");
+  EXPECT_NE(e.find("occupancy.min_hit_keyframes"), std::string::npos) << e;
+  e = error_for("  min_hit_interval: -1\n");
+  EXPECT_NE(e.find("occupancy.min_hit_interval"), std::string::npos) << e;
   e = error_for("  resolutoin: 0.1\n");
   EXPECT_NE(e.find("unknown key"), std::string::npos) << e;
 

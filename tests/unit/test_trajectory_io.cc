@@ -176,4 +176,29 @@ TEST(TrajectoryIo, UnwritableFileNamesFile) {
             file.string() + ": cannot open for writing");
 }
 
+// A 100 Hz motion-capture trajectory on its own clock, read at an image's stamp between two samples.
+TEST(TrajectoryIo, PoseAtInterpolatesBetweenTheSamplesAroundAStamp) {
+  auto pose = [](double t) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(0.5 * t, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    T.translation() = Eigen::Vector3d(2.0 * t, -t, 0.3);
+    return T;
+  };
+  Trajectory gt;
+  for (int j = 0; j <= 100; ++j) gt.push_back({0.004 + 0.01 * j, pose(0.004 + 0.01 * j)});
+
+  const auto between = lrd::io::pose_at(gt, 0.5013, 0.02);
+  ASSERT_TRUE(between.has_value());
+  EXPECT_LT((between->translation() - pose(0.5013).translation()).norm(), 1e-12);
+  EXPECT_LT(Eigen::AngleAxisd(between->linear().transpose() * pose(0.5013).linear()).angle(), 1e-12);
+  const auto exact = lrd::io::pose_at(gt, gt[7].timestamp, 0.02);
+  ASSERT_TRUE(exact.has_value());
+  EXPECT_TRUE(exact->isApprox(gt[7].pose, 0.0));
+
+  EXPECT_FALSE(lrd::io::pose_at(gt, 0.001, 0.02).has_value());  // before the first sample
+  EXPECT_FALSE(lrd::io::pose_at(gt, 1.2, 0.02).has_value());    // after the last
+  gt.erase(gt.begin() + 40, gt.begin() + 50);                   // a gap of 0.11 s
+  EXPECT_FALSE(lrd::io::pose_at(gt, 0.44, 0.02).has_value());
+}
+
 }  // namespace

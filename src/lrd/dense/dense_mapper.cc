@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 
 #include "lrd/dense/voxel_grid.h"
@@ -16,6 +17,11 @@ namespace lrd::dense {
 
 namespace {
 constexpr int kCoarse = 4;  // the free-space check's views are 1/4 of the resolution
+
+void append(PointCloud& cloud, const PointCloud& more) {
+  cloud.points.insert(cloud.points.end(), more.points.begin(), more.points.end());
+  cloud.colours.insert(cloud.colours.end(), more.colours.begin(), more.colours.end());
+}
 }  // namespace
 
 DenseMapper::DenseMapper(map::Map& map, const camera::PinholeCamera& camera, const DenseParams& params,
@@ -39,12 +45,16 @@ DenseMapper::~DenseMapper() {
   }
 }
 
-void DenseMapper::add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat depth, cv::Mat dynamic) {
+void DenseMapper::add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat depth, cv::Mat dynamic,
+                               bool mask_carried) {
   {
     std::lock_guard lock(queue_mutex_);
     if (error_) return;  // the thread stopped at an error; shutdown() reports it
-    queue_.push_back(
-        {kf->id(), kf->timestamp(), RgbdView{std::move(bgr), std::move(depth), std::move(dynamic), {}}, {}});
+    queue_.push_back({kf->id(),
+                      kf->timestamp(),
+                      RgbdView{std::move(bgr), std::move(depth), std::move(dynamic), {}},
+                      {},
+                      mask_carried});
   }
   wake_.notify_one();
 }
@@ -133,9 +143,6 @@ void DenseMapper::process(Pending p) {
     p.view.T_cw = map_.resolve_pose(p.keyframe_id);
     for (Pending& r : recent_) r.coarse.T_cw = r.view.T_cw = map_.resolve_pose(r.keyframe_id);
   }
-  // Pixels that stay out of the keyframe's cloud. Never assigned an expression while sharing the
-  // mask's buffer: OpenCV would evaluate it into that buffer and change the stored mask.
-  cv::Mat exclude = p.view.dynamic;
   RgbdView repaired_view = p.view;
   std::optional<RepairResult> repair;
   if (params_.repair.enabled && !p.view.dynamic.empty() && cv::countNonZero(p.view.dynamic) > 0) {
@@ -148,14 +155,42 @@ void DenseMapper::process(Pending p) {
     if (on_repair_) on_repair_(p.timestamp, p.view, rep);
     repaired_view.bgr = rep.bgr;
     repaired_view.depth = rep.depth;
-    exclude = cv::Mat();
-    cv::bitwise_and(p.view.dynamic, ~rep.filled, exclude);
     std::lock_guard lock(mutex_);
     ++totals_.keyframes;
     totals_.dynamic_pixels += static_cast<std::size_t>(rep.dynamic_pixels);
     totals_.filled_pixels += static_cast<std::size_t>(rep.filled_pixels);
   }
-  PointCloud local = keyframe_cloud(repaired_view, exclude);
+  // The keyframe's own measurements (its dynamic pixels left out), those far from its dynamic
+  // pixels first, then those near them (where a mask misses a hand or a shoulder), then what the
+  // repair filled in from earlier keyframes: the occupancy map weighs them in that order.
+  PointCloud local;
+  std::size_t trusted = 0;
+  if (p.mask_carried) {
+    // A mask carried from an earlier frame lags the people by their motion since (beyond any
+    // margin for someone close and fast): all the keyframe's own depth waits for confirmation.
+    local = keyframe_cloud(p.view, p.view.dynamic);
+  } else if (p.view.dynamic.empty() || cv::countNonZero(p.view.dynamic) == 0) {
+    local = keyframe_cloud(p.view, p.view.dynamic);
+    trusted = local.size();
+  } else {
+    const int r = params_.mask_margin_px;
+    cv::Mat around;  // dynamic pixels and their margin
+    cv::dilate(p.view.dynamic, around,
+               cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1)));
+    local = keyframe_cloud(p.view, around);
+    trusted = local.size();
+    cv::Mat not_margin;  // every pixel but the margin's
+    cv::bitwise_xor(around, p.view.dynamic, not_margin);
+    cv::bitwise_not(not_margin, not_margin);
+    append(local, keyframe_cloud(p.view, not_margin));
+  }
+  const std::size_t measured = local.size();
+  if (repair) {
+    cv::Mat not_filled;  // every pixel but the dynamic ones the repair filled
+    cv::bitwise_and(p.view.dynamic, repair->filled, not_filled);
+    cv::bitwise_not(not_filled, not_filled);
+    append(local, keyframe_cloud(repaired_view, not_filled));
+  }
   std::vector<std::uint8_t> votes(local.size(), 0);
   const FreeSpaceParams& fs = params_.free_space;
   p.coarse = coarse_view(p.view, kCoarse);
@@ -185,8 +220,8 @@ void DenseMapper::process(Pending p) {
     std::lock_guard lock(mutex_);
     storage_.points += local.size();
     storage_.bytes += local.size() * kBytesPerPoint;
-    stored_.push_back(
-        {p.keyframe_id, std::make_shared<const PointCloud>(std::move(local)), std::move(votes)});
+    stored_.push_back({p.keyframe_id, std::make_shared<const PointCloud>(std::move(local)), std::move(votes),
+                       p.timestamp, trusted, measured});
     keyframes = storage_.keyframes = stored_.size();
   }
   if (on_update_) on_update_(p.timestamp, keyframes, p.view, repair ? &*repair : nullptr);
@@ -272,7 +307,10 @@ std::vector<DenseMapper::KeyframeCloud> DenseMapper::keyframe_clouds() const {
     for (const Stored& s : stored_) {
       KeyframeCloud c;
       c.keyframe_id = s.keyframe_id;
+      c.timestamp = s.timestamp;
       c.local = s.local;
+      c.trusted = s.trusted;
+      c.measured = s.measured;
       c.kept.resize(s.votes.size());
       for (std::size_t k = 0; k < s.votes.size(); ++k) c.kept[k] = min_votes == 0 || s.votes[k] < min_votes;
       out.push_back(std::move(c));

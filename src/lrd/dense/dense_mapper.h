@@ -73,7 +73,10 @@ class DenseMapper {
 
   // Queues a new keyframe. bgr: CV_8UC3 BGR; depth: CV_32F metres; dynamic: CV_8UC1 or empty.
   // The images must not be written to afterwards (the caller hands over its copies).
-  void add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat depth, cv::Mat dynamic);
+  // mask_carried: the segmentation part of `dynamic` was made for an earlier frame and carried
+  // over (async schedule): none of the keyframe's own depth is trusted at once (see process()).
+  void add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat depth, cv::Mat dynamic,
+                    bool mask_carried = false);
   // Processes every queued keyframe in the caller's thread.
   void process_queued();
   // Finishes the queue and stops the thread. Idempotent. Rethrows the first error the dense
@@ -91,9 +94,15 @@ class DenseMapper {
   // keyframes saw through). The occupancy map casts its rays from these (occupancy/).
   struct KeyframeCloud {
     std::uint64_t keyframe_id = 0;
+    double timestamp = 0.0;
     Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();
     std::shared_ptr<const PointCloud> local;  // shared: the mapper may drop it meanwhile (memory cap)
     std::vector<char> kept;
+    // Points [0, trusted) are the keyframe's own depth away from its dynamic pixels, [trusted,
+    // measured) its own depth within dense.mask_margin_px of them (where a mask misses a hand),
+    // the rest what the background repair filled in from earlier keyframes (not new measurements).
+    std::size_t trusted = static_cast<std::size_t>(-1);  // all, unless set
+    std::size_t measured = static_cast<std::size_t>(-1);
   };
   // Every keyframe's, in the order they were added. Takes the map mutex briefly to read poses.
   [[nodiscard]] std::vector<KeyframeCloud> keyframe_clouds() const;
@@ -105,11 +114,15 @@ class DenseMapper {
     double timestamp;
     RgbdView view;
     RgbdView coarse;  // for the free-space check (free_space_check.h), made when processed
+    bool mask_carried = false;
   };
   struct Stored {
     std::uint64_t keyframe_id;
     std::shared_ptr<const PointCloud> local;  // camera frame
     std::vector<std::uint8_t> votes;          // per point: keyframes that saw through it
+    double timestamp;
+    std::size_t trusted = 0;   // points [0, trusted): own depth, beyond dense.mask_margin_px of the mask
+    std::size_t measured = 0;  // [trusted, measured): own depth near the mask; the rest repaired
   };
   static constexpr std::size_t kBytesPerPoint = sizeof(Eigen::Vector3f) + sizeof(cv::Vec3b) + 1;
 

@@ -24,6 +24,9 @@ struct DenseParams {
   int pixel_stride = 2;      // every n-th pixel in both directions enters the keyframe's cloud
   double depth_edge = 0.05;  // pixels whose depth jumps by more than this share of z to a neighbour
                              // (mixed pixels at object outlines) stay out of the map
+  // Pixels within this many of a dynamic one are where a mask misses a hand or a shoulder: the
+  // occupancy map makes them a surface only once a second keyframe measures it too.
+  int mask_margin_px = 50;
   // MiB the stored keyframe clouds may take (16 bytes a point); 0: no cap. Over it, the clouds of
   // keyframes that keyframe culling removed go first, then the oldest; the newest
   // max(repair.keyframes, free_space.keyframes) always stay (bench_scale, issue 23).

@@ -176,4 +176,20 @@ void write_trajectory_kitti(const std::filesystem::path& file, const Trajectory&
   finish_writing(file, std::move(out));
 }
 
+std::optional<Eigen::Isometry3d> pose_at(const Trajectory& trajectory, double t, double max_gap) {
+  const auto after = std::lower_bound(trajectory.begin(), trajectory.end(), t,
+                                      [](const StampedPose& p, double s) { return p.timestamp < s; });
+  if (after != trajectory.end() && after->timestamp == t) return after->pose;
+  if (after == trajectory.begin() || after == trajectory.end()) return std::nullopt;
+  const StampedPose& before = *std::prev(after);
+  const double gap = after->timestamp - before.timestamp;
+  if (gap > max_gap) return std::nullopt;
+  const double s = (t - before.timestamp) / gap;
+  const Eigen::Quaterniond q0(before.pose.linear()), q1(after->pose.linear());
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = q0.slerp(s, q1).toRotationMatrix();
+  pose.translation() = (1.0 - s) * before.pose.translation() + s * after->pose.translation();
+  return pose;
+}
+
 }  // namespace lrd::io

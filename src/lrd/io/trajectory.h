@@ -3,6 +3,7 @@
 // Poses are camera-to-world, as in the TUM ground-truth files.
 #include <Eigen/Geometry>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 namespace lrd::io {
@@ -23,6 +24,13 @@ using Trajectory = std::vector<StampedPose>;
 
 // "t tx ty tz qx qy qz qw", timestamp with 6 decimals, values with 9, after a '#' header line.
 void write_trajectory_tum(const std::filesystem::path& file, const Trajectory& trajectory);
+
+// The pose at time t of a trajectory sorted by timestamp: a sample stamped t itself, else the
+// two samples around t at most max_gap apart, interpolated (position linearly, rotation by slerp).
+// A motion-capture ground truth (TUM: 100 Hz, its own clock) has no sample at an image's stamp.
+// nullopt outside the trajectory or across a longer gap.
+[[nodiscard]] std::optional<Eigen::Isometry3d> pose_at(const Trajectory& trajectory, double t,
+                                                       double max_gap);
 
 // KITTI odometry poses: the 12 values of the row-major 3x4 [R|t] per line (no timestamps).
 void write_trajectory_kitti(const std::filesystem::path& file, const Trajectory& trajectory);

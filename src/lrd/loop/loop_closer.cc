@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "lrd/loop/essential_graph.h"
 #include "lrd/loop/loop_agreement.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/keyframe_database.h"
@@ -26,6 +27,49 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 using KeyFramePoses = std::map<map::KeyFrame*, Eigen::Isometry3d, map::ById>;
+
+// The plausibility check of a loop's correction (reliability issue, item 1): a dry run of step 3 on
+// the graph as it is, with the loop's edge and the neighbourhood moved. A correction that changes
+// one spanning-tree edge by decimetres has not spread a drift along the loop: it would tear the
+// trajectory apart (the 0.5-0.8 m jumps of `static` mode on walking_rpy). Warns when it refuses.
+bool correction_is_plausible(const map::Map& map, const LoopClosingParams& params, const LoopDetection& loop,
+                             const KeyFramePoses& uncorrected, const KeyFramePoses& corrected,
+                             double correction_m) {
+  const std::vector<map::KeyFrame*> all = map.keyframes();
+  const auto pose_in = [](const KeyFramePoses& poses, map::KeyFrame* k) {
+    const auto it = poses.find(k);
+    return it != poses.end() ? it->second : k->T_cw();
+  };
+  const optim::PoseOf pre = [&](map::KeyFrame* k) { return pose_in(uncorrected, k); };
+  std::vector<optim::PoseGraphNode> nodes;
+  for (map::KeyFrame* k : all) nodes.push_back({k->id(), pose_in(corrected, k), k == loop.loop});
+  // The fusion will link the neighbourhood across the loop: each of its keyframes to the loop
+  // keyframe at its corrected pose stands in for those links.
+  EssentialGraph graph;
+  graph.add_edge(loop.current, loop.loop, loop.loop->T_cw() * loop.T_cw_corrected.inverse());
+  for (const auto& [k, T_cw] : corrected)
+    if (k != loop.loop) graph.add_edge(k, loop.loop, loop.loop->T_cw() * T_cw.inverse());
+  graph.add_map_edges(all, pre, params.essential_min_weight);
+  optim::PoseGraphParams pg;
+  pg.iterations = params.pose_graph_iterations;
+  const optim::PoseGraphResult result = optim::optimize_pose_graph(nodes, graph.edges, pg);
+  const optim::TreeEdgeChange change =
+      optim::largest_tree_edge_change(all, pre, [&](map::KeyFrame* k) { return result.T_cw.at(k->id()); });
+  if (change.metres <= params.pose_graph_max_edge_change_m &&
+      change.degrees <= params.pose_graph_max_edge_change_deg) {
+    spdlog::debug(
+        "loop {}-{}: correction {:.3f} m, dry run moves keyframe {} by {:.3f} m / {:.2f} deg against its "
+        "parent",
+        loop.current->id(), loop.loop->id(), correction_m, change.keyframe, change.metres, change.degrees);
+    return true;
+  }
+  spdlog::warn(
+      "loop {}-{} rejected: its correction ({:.3f} m) would move keyframe {} by {:.3f} m / {:.1f} deg "
+      "against its parent (at most {} m / {} deg): the drift is not spread along the loop",
+      loop.current->id(), loop.loop->id(), correction_m, change.keyframe, change.metres, change.degrees,
+      params.pose_graph_max_edge_change_m, params.pose_graph_max_edge_change_deg);
+  return false;
+}
 }  // namespace
 
 LoopClosingParams LoopClosingParams::from_config(config::NodeReader r,
@@ -54,6 +98,11 @@ LoopClosingParams LoopClosingParams::from_config(config::NodeReader r,
   r.check(p.global_ba_max_edge_change_m > 0.0, "global_ba_max_edge_change_m", "must be > 0");
   p.global_ba_max_edge_change_deg = r.get("global_ba_max_edge_change_deg", p.global_ba_max_edge_change_deg);
   r.check(p.global_ba_max_edge_change_deg > 0.0, "global_ba_max_edge_change_deg", "must be > 0");
+  p.pose_graph_max_edge_change_m = r.get("pose_graph_max_edge_change_m", p.pose_graph_max_edge_change_m);
+  r.check(p.pose_graph_max_edge_change_m > 0.0, "pose_graph_max_edge_change_m", "must be > 0");
+  p.pose_graph_max_edge_change_deg =
+      r.get("pose_graph_max_edge_change_deg", p.pose_graph_max_edge_change_deg);
+  r.check(p.pose_graph_max_edge_change_deg > 0.0, "pose_graph_max_edge_change_deg", "must be > 0");
   r.finish();
   return p;
 }
@@ -190,14 +239,16 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
     }
   std::sort(connected.begin(), connected.end(), map::ById{});
   if (!agrees_with_map(loop, connected, event.correction_m)) return std::nullopt;
-  mapper_.interrupt_ba();
   KeyFramePoses uncorrected, corrected;
   const Eigen::Isometry3d T_wc_kf = kf->T_wc();
   for (map::KeyFrame* k : connected) {
     uncorrected[k] = k->T_cw();
     corrected[k] = k == kf ? loop.T_cw_corrected : k->T_cw() * T_wc_kf * loop.T_cw_corrected;
-    k->loop_query_for_kf = tag;
   }
+  if (!correction_is_plausible(map_, params_, loop, uncorrected, corrected, event.correction_m))
+    return std::nullopt;
+  mapper_.interrupt_ba();
+  for (map::KeyFrame* k : connected) k->loop_query_for_kf = tag;
   for (map::KeyFrame* k : connected) {
     const Eigen::Isometry3d move = corrected[k].inverse() * uncorrected[k];
     for (map::MapPoint* mp : k->map_points()) {
@@ -244,7 +295,6 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
 
   // 3. Essential-graph optimization; the loop keyframe anchors the gauge (ORB-SLAM2).
   std::vector<optim::PoseGraphNode> nodes;
-  std::vector<optim::PoseGraphEdge> edges;
   const std::vector<map::KeyFrame*> all = map_.keyframes();
   KeyFramePoses before;  // poses before the optimization (corrected ones for the neighbourhood)
   for (map::KeyFrame* k : all) {
@@ -257,42 +307,22 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
     const auto it = uncorrected.find(k);
     return it != uncorrected.end() ? it->second : k->T_cw();
   };
-  // One edge per pair: a new link across the loop is measured with the corrected poses only,
-  // never again with the drifted ones (ORB-SLAM2's sInsertedEdges).
-  std::set<std::pair<std::uint64_t, std::uint64_t>> inserted;
-  auto add_edge = [&](map::KeyFrame* from, map::KeyFrame* to, const Eigen::Isometry3d& T_to_from) {
-    const std::pair<std::uint64_t, std::uint64_t> key = std::minmax(from->id(), to->id());
-    if (!inserted.insert(key).second) return;
-    edges.push_back({from->id(), to->id(), T_to_from, 1.0});
-  };
+  EssentialGraph graph;
   // The loop itself first, at the pose the loop measured.
-  add_edge(kf, loop.loop, loop.loop->T_cw() * loop.T_cw_corrected.inverse());
+  graph.add_edge(kf, loop.loop, loop.loop->T_cw() * loop.T_cw_corrected.inverse());
   for (const auto& [k, links] : loop_connections)
     for (map::KeyFrame* n : links) {
       if (n->is_bad()) continue;
       const bool main_link = (k == kf && n == loop.loop);
       if (!main_link && k->weight(n) < params_.essential_min_weight) continue;
-      add_edge(k, n, n->T_cw() * k->T_cw().inverse());
+      graph.add_edge(k, n, n->T_cw() * k->T_cw().inverse());
     }
-  for (map::KeyFrame* k : all) {
-    const Eigen::Isometry3d T_kw = pre(k);
-    auto relative = [&](map::KeyFrame* n) { return pre(n) * T_kw.inverse(); };
-    if (map::KeyFrame* parent = k->parent(); parent != nullptr && !parent->is_bad())
-      add_edge(k, parent, relative(parent));
-    for (map::KeyFrame* l : k->loop_edges())
-      if (!l->is_bad() && l->id() < k->id()) add_edge(k, l, relative(l));
-    for (map::KeyFrame* n : k->covisibles_with_weight(params_.essential_min_weight)) {
-      if (n->is_bad() || n->id() >= k->id() || n == k->parent() || n->parent() == k ||
-          k->loop_edges().count(n) != 0)
-        continue;
-      add_edge(k, n, relative(n));
-    }
-  }
+  graph.add_map_edges(all, pre, params_.essential_min_weight);
   optim::PoseGraphParams pg;
   pg.iterations = params_.pose_graph_iterations;
-  const optim::PoseGraphResult result = optim::optimize_pose_graph(nodes, edges, pg);
+  const optim::PoseGraphResult result = optim::optimize_pose_graph(nodes, graph.edges, pg);
   event.keyframes = all.size();
-  event.pose_graph_edges = edges.size();
+  event.pose_graph_edges = graph.edges.size();
   for (map::KeyFrame* k : all) k->set_pose(result.T_cw.at(k->id()));
   // Followers (no edges) keep their place relative to the current keyframe.
   for (map::KeyFrame* k : followers) k->set_pose(before.at(k) * before.at(kf).inverse() * kf->T_cw());
@@ -309,7 +339,7 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
   loop.loop->add_loop_edge(kf);
   map_.notify_big_change();
   spdlog::debug("loop {}-{}: {} connected keyframes, {} essential edges, pose graph cost {:.4g} -> {:.4g}",
-                kf->id(), loop.loop->id(), connected.size(), edges.size(), result.initial_cost,
+                kf->id(), loop.loop->id(), connected.size(), graph.edges.size(), result.initial_cost,
                 result.final_cost);
   return event;
 }

@@ -5,7 +5,9 @@
 //     with the map points they see;
 //  2. the loop side's map points are fused with theirs (duplicates merged);
 //  3. the essential graph (spanning tree, loop edges, strong covisibility edges and the new
-//     loop connections) is optimized as a pose graph, and every map point follows its keyframe;
+//     loop connections) is optimized as a pose graph, and every map point follows its keyframe
+//     (a dry run of it comes first: a loop whose correction would tear the spanning tree apart
+//     is refused before anything moves);
 //  4. global bundle adjustment refines the whole map in its own thread and is merged without
 //     stopping tracking (optim/global_bundle_adjuster.h).
 // Trajectories follow automatically: frames are stored relative to keyframes.
@@ -50,6 +52,10 @@ struct LoopClosingParams {
   // implausible and not merged (optim/global_bundle_adjuster.h).
   double global_ba_max_edge_change_m = 0.1;
   double global_ba_max_edge_change_deg = 5.0;
+  // A loop whose pose-graph correction would change a keyframe's pose against its spanning-tree
+  // parent by more than this is refused (loop_closer.cc, correction_is_plausible).
+  double pose_graph_max_edge_change_m = 0.25;
+  double pose_graph_max_edge_change_deg = 10.0;
   // Reads the `loop_closing` section of the config (and finishes it); relative paths are
   // relative to `base_dir` (the config file's folder).
   static LoopClosingParams from_config(config::NodeReader reader, const std::filesystem::path& base_dir);
@@ -82,7 +88,7 @@ struct GlobalBaRun {
 struct LoopCloserStats {
   std::vector<LoopEvent> loops;
   std::vector<GlobalBaRun> global_ba_runs;
-  int rejected_loops = 0;  // detected, but contradicted by the map (loop_agreement.h)
+  int rejected_loops = 0;  // detected, but contradicted by the map (loop_agreement.h) or implausible
   int global_bundle_adjustments = 0;
   int aborted_global_bundle_adjustments = 0;
   int implausible_global_bundle_adjustments = 0;  // solved but not merged
@@ -115,7 +121,8 @@ class LoopCloser {
  private:
   void run();
   void process(std::uint64_t keyframe_id);
-  // Empty when the loop is rejected (agrees_with_map); the map is then untouched.
+  // Empty when the loop is rejected (agrees_with_map, correction_is_plausible); the map is then
+  // untouched.
   std::optional<LoopEvent> correct_loop(const LoopDetection& loop);
   // A loop whose keyframe already shares structure with the current neighbourhood must agree
   // with it (loop_agreement.h); a warning names the loop otherwise.

@@ -17,6 +17,9 @@ OccupancyMap build_occupancy_map(const std::vector<dense::DenseMapper::KeyframeC
     rays.points.resize(local.size());
     rays.depth.resize(local.size());
     rays.hit.assign(c.kept.begin(), c.kept.end());
+    rays.timestamp = c.timestamp;
+    rays.trusted = c.trusted;
+    rays.measured = c.measured;
     for (std::size_t k = 0; k < local.size(); ++k) {
       rays.points[k] = T * local.points[k];
       rays.depth[k] = local.points[k].z();

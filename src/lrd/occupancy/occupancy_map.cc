@@ -24,6 +24,14 @@ struct OccupancyMap::Tree {
     tree.setClampingThresMax(p.clamp_max);
   }
   octomap::OcTree tree;
+  // Voxels some keyframe's rays ended in, by key: how many keyframes so far (up to
+  // min_hit_keyframes) and the hits' log-odds not yet applied to the tree.
+  struct Hits {
+    int keyframes = 0;
+    float pending = 0.0f;
+    double counted_at = 0.0;  // the timestamp of the last keyframe counted
+  };
+  std::unordered_map<octomap::OcTreeKey, Hits, octomap::OcTreeKey::KeyHash> hits;
 };
 
 namespace {
@@ -88,6 +96,7 @@ void OccupancyMap::integrate(const RayBundle& rays) {
   struct End {
     float depth;
     bool hit;
+    HitEvidence evidence;  // the best of the hits ending here
   };
   std::unordered_map<octomap::OcTreeKey, End, octomap::OcTreeKey::KeyHash> ends;
   const float max_range = static_cast<float>(params_.max_range);
@@ -105,10 +114,15 @@ void OccupancyMap::integrate(const RayBundle& rays) {
     }
     octomap::OcTreeKey key;
     if (!tree.coordToKeyChecked(octomap::point3d(end.x(), end.y(), end.z()), key)) continue;
-    auto [it, fresh] = ends.try_emplace(key, End{rays.depth[i], hit});
+    const HitEvidence evidence = !hit                ? HitEvidence::Repaired
+                                 : i < rays.trusted  ? HitEvidence::Trusted
+                                 : i < rays.measured ? HitEvidence::NearMask
+                                                     : HitEvidence::Repaired;
+    auto [it, fresh] = ends.try_emplace(key, End{rays.depth[i], hit, evidence});
     if (!fresh) {
       it->second.depth = std::min(it->second.depth, rays.depth[i]);
       it->second.hit = it->second.hit || hit;
+      it->second.evidence = std::max(it->second.evidence, evidence);
     }
   }
   octomap::KeySet free;
@@ -124,8 +138,30 @@ void OccupancyMap::integrate(const RayBundle& rays) {
     if (e == ends.end() || !e->second.hit) tree.updateNode(key, miss, true);
   }
   for (const auto& [key, end] : ends)
-    if (end.hit) tree.updateNode(key, hit_log_odds(params_, end.depth), true);
+    if (end.hit) add_hit(key, hit_log_odds(params_, end.depth), end.evidence, rays.timestamp);
   tree.updateInnerOccupancy();
+}
+
+void OccupancyMap::add_hit(const octomap::OcTreeKey& key, float log_odds_hit, HitEvidence evidence,
+                           double timestamp) {
+  Tree::Hits& h = tree_->hits[key];
+  if (evidence == HitEvidence::Trusted) h.keyframes = params_.min_hit_keyframes;
+  if (h.keyframes >= params_.min_hit_keyframes) {
+    tree_->tree.updateNode(key, h.pending + log_odds_hit, true);
+    h.pending = 0.0f;
+    return;
+  }
+  h.pending += log_odds_hit;
+  // A repaired pixel is an earlier keyframe's measurement seen again: a part of a walker the mask
+  // missed there, copied into the next keyframes' repairs, must not confirm itself.
+  if (evidence == HitEvidence::Repaired) return;
+  // Keyframes a moment apart (a person filling the view makes tracking add several within half
+  // a second) see a walker in the same place: only keyframes min_hit_interval apart count.
+  if (h.keyframes > 0 && std::abs(timestamp - h.counted_at) < params_.min_hit_interval) return;
+  h.counted_at = timestamp;
+  if (++h.keyframes < params_.min_hit_keyframes) return;
+  tree_->tree.updateNode(key, h.pending, true);  // confirmed: every hit so far counts
+  h.pending = 0.0f;
 }
 
 VoxelState OccupancyMap::state_at(const Eigen::Vector3d& p) const {

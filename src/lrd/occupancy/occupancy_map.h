@@ -5,6 +5,8 @@
 //   p(z) = 0.5 + (prob_hit - 0.5) * erf(resolution / (2 sqrt(2) sigma(z))),
 // the chance that a surface measured at z lies in the voxel it was measured in. Free-space
 // carving is what removes a person who stood somewhere and walked on: later rays pass through.
+// A voxel hit next to a dynamic region becomes a surface once min_hit_keyframes keyframes have
+// measured it, at least min_hit_interval apart (RayBundle).
 // OctoMap stays behind this interface (its headers are not part of lrd-slam's).
 #include <Eigen/Core>
 #include <filesystem>
@@ -14,19 +16,34 @@
 
 #include "lrd/occupancy/occupancy_params.h"
 
+namespace octomap {
+class OcTreeKey;
+}
+
 namespace lrd::occupancy {
 
 enum class VoxelState { Unknown, Free, Occupied };
 
 // One keyframe's depth as rays: the camera centre and the measured points, in the map frame.
 // Points with hit[i] == false only carve free space (seen through by other keyframes, so not a
-// surface to keep); depth[i] is the measurement's z in its camera, for the noise model.
+// surface to keep); depth[i] is the measurement's z in its camera, for the noise model. How far a
+// hit is believed: points before `trusted` make their voxel a surface at once; those before
+// `measured` (the keyframe's own depth next to its dynamic pixels, where masks miss parts of
+// people) count as one keyframe of min_hit_keyframes if min_hit_interval after the last one that
+// counted; the rest (filled in from other keyframes by the background repair: not new
+// measurements) add evidence but count as no keyframe.
 struct RayBundle {
+  double timestamp = 0.0;  // the keyframe's
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3f> points;
   std::vector<float> depth;
   std::vector<char> hit;
+  std::size_t trusted = static_cast<std::size_t>(-1);  // all, unless set
+  std::size_t measured = static_cast<std::size_t>(-1);
 };
+
+// What one keyframe's hit on a voxel tells (RayBundle).
+enum class HitEvidence { Repaired, NearMask, Trusted };
 
 class OccupancyMap {
  public:
@@ -61,6 +78,8 @@ class OccupancyMap {
 
  private:
   struct Tree;
+  // One keyframe's hit on the voxel `key` (see RayBundle).
+  void add_hit(const octomap::OcTreeKey& key, float log_odds_hit, HitEvidence evidence, double timestamp);
   OccupancyParams params_;
   std::unique_ptr<Tree> tree_;
 };

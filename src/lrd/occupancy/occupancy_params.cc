@@ -21,6 +21,10 @@ OccupancyParams OccupancyParams::from_config(config::NodeReader r) {
   r.check(p.clamp_max > 0.5 && p.clamp_max < 1.0, "clamp_max", "must be in (0.5, 1)");
   p.depth_noise = r.get("depth_noise", p.depth_noise);
   r.check(p.depth_noise >= 0.0, "depth_noise", "must be >= 0");
+  p.min_hit_keyframes = r.get("min_hit_keyframes", p.min_hit_keyframes);
+  r.check(p.min_hit_keyframes >= 1, "min_hit_keyframes", "must be >= 1");
+  p.min_hit_interval = r.get("min_hit_interval", p.min_hit_interval);
+  r.check(p.min_hit_interval >= 0.0, "min_hit_interval", "must be >= 0 s");
   p.min_height = r.get("min_height", p.min_height);
   p.max_height = r.get("max_height", p.max_height);
   r.check(p.max_height > p.min_height, "max_height", "must be above min_height (the heights are inverted)");

@@ -20,6 +20,12 @@ struct OccupancyParams {
   // Depth noise sigma(z) = depth_noise * z^2 (m; Kinect-like, Khoshelham & Elberink 2012): a far
   // hit may lie in a neighbouring voxel, so it adds less than prob_hit (occupancy_map.h).
   double depth_noise = 0.0015;
+  // Keyframes whose rays must end in a voxel before it counts as a surface (until then its hits
+  // wait aside): a part of a walker that the mask missed in one keyframe is somewhere else in the
+  // next, so it never becomes an obstacle. 1: every hit counts at once (plain OctoMap).
+  int min_hit_keyframes = 2;
+  // ... counted only when this far apart in time (s): a walker has moved on ~0.8 m meanwhile.
+  double min_hit_interval = 1.0;
   // The 2-D grid: voxels between these heights above the floor (m) are obstacles.
   double min_height = 0.1;
   double max_height = 1.8;

@@ -11,32 +11,9 @@
 #include "lrd/map/map.h"
 #include "lrd/map/map_point.h"
 #include "lrd/optim/ba_problem.h"
+#include "lrd/optim/tree_edge_change.h"
 
 namespace lrd::optim {
-
-namespace {
-// How far the solve moved each solved keyframe against its solved spanning-tree parent: the
-// change of their relative pose, translation and angle (call under the map mutex).
-void measure_edge_changes(const std::vector<map::KeyFrame*>& kfs,
-                          const std::map<const map::KeyFrame*, std::size_t>& index,
-                          const std::vector<bool>& solved, const std::vector<PoseBlock>& before,
-                          const std::vector<PoseBlock>& after, GlobalBundleAdjustmentStats& stats) {
-  for (std::size_t i = 0; i < kfs.size(); ++i) {
-    const map::KeyFrame* parent = kfs[i]->parent();
-    const auto it = parent == nullptr ? index.end() : index.find(parent);
-    if (!solved[i] || kfs[i]->is_bad() || it == index.end() || !solved[it->second]) continue;
-    const std::size_t p = it->second;
-    const Eigen::Isometry3d rel_before = from_block(before[i]) * from_block(before[p]).inverse();
-    const Eigen::Isometry3d rel_after = from_block(after[i]) * from_block(after[p]).inverse();
-    const Eigen::Isometry3d change = rel_before.inverse() * rel_after;
-    const double metres = change.translation().norm();
-    const double degrees = Eigen::AngleAxisd(change.linear()).angle() * 180.0 / M_PI;
-    if (metres > stats.largest_edge_change_m) stats.worst_keyframe = kfs[i]->id();
-    stats.largest_edge_change_m = std::max(stats.largest_edge_change_m, metres);
-    stats.largest_edge_change_deg = std::max(stats.largest_edge_change_deg, degrees);
-  }
-}
-}  // namespace
 
 GlobalBundleAdjustmentStats global_bundle_adjustment(map::Map& map, std::uint64_t run,
                                                      const std::atomic<bool>* abort,
@@ -108,7 +85,17 @@ GlobalBundleAdjustmentStats global_bundle_adjustment(map::Map& map, std::uint64_
   // queued for local mapping when the map was read) follows its parent below, or keeps its pose.
   std::vector<bool> observed(kfs.size(), false);
   for (const Observation& o : obs) observed[o.kf] = true;
-  measure_edge_changes(kfs, index, observed, initial_poses, poses, stats);
+  // How far the solve moved each solved keyframe against its solved spanning-tree parent.
+  const TreeEdgeChange change = largest_tree_edge_change(
+      kfs, [&](map::KeyFrame* kf) { return from_block(initial_poses[index.at(kf)]); },
+      [&](map::KeyFrame* kf) { return from_block(poses[index.at(kf)]); },
+      [&](const map::KeyFrame* kf) {
+        const auto it = index.find(kf);
+        return it != index.end() && observed[it->second];
+      });
+  stats.largest_edge_change_m = change.metres;
+  stats.largest_edge_change_deg = change.degrees;
+  stats.worst_keyframe = change.keyframe;
   if (stats.largest_edge_change_m > params.max_edge_change_m ||
       stats.largest_edge_change_deg > params.max_edge_change_deg) {
     stats.implausible = true;

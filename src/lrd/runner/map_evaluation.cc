@@ -4,8 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
-#include <unordered_map>
+#include <optional>
 
+#include "lrd/camera/image_undistorter.h"
 #include "lrd/dense/ply_io.h"
 #include "lrd/eval/ate.h"
 #include "lrd/io/tum_sequence.h"
@@ -16,9 +17,8 @@ namespace lrd::runner {
 namespace fs = std::filesystem;
 
 namespace {
-long long micros(double t) {
-  return std::llround(t * 1e6);
-}
+// Two ground-truth samples farther apart than this are a gap in the capture, not interpolated.
+constexpr double kMaxGroundTruthGap = 0.05;  // s
 
 Eigen::Isometry3d align_poses(const io::Trajectory& gt, const io::Trajectory& estimate,
                               const std::vector<eval::Match>& matches) {
@@ -70,21 +70,23 @@ SceneTruth load_scene_truth(const io::Trajectory& estimate, const fs::path& sequ
   truth.alignment = align_poses(gt, estimate, ate.matches);
   truth.scene = dense::read_ply(scene_file);
 
-  // Ground-truth views: poses by timestamp from groundtruth.txt (synthetic: one per frame).
-  std::unordered_map<long long, Eigen::Isometry3d> gt_pose;
-  for (const io::StampedPose& p : gt) gt_pose[micros(p.timestamp)] = p.pose;
+  // Ground-truth views: each frame's pose at its image's stamp (synthetic `clean`: a sample per
+  // frame; `tum`: 100 Hz motion capture on its own clock, interpolated), its depth and mask
+  // resampled to the ideal camera the checks below project with (`tum` renders a lens distortion).
+  const camera::ImageUndistorter undistorter(camera);
   std::vector<eval::TruthView> views;
   for (std::size_t i = 0; i < seq.size(); i += static_cast<std::size_t>(std::max(1, frame_stride))) {
-    const auto it = gt_pose.find(micros(seq.entry(i).timestamp));
-    if (it == gt_pose.end()) continue;
+    const std::optional<Eigen::Isometry3d> pose = io::pose_at(gt, seq.entry(i).timestamp, kMaxGroundTruthGap);
+    if (!pose) continue;
     eval::TruthView v;
-    v.T_cw = it->second.inverse();
-    v.depth = seq.load_rgbd(i, camera.depth_map_factor).depth;
+    v.T_cw = pose->inverse();
+    v.depth = undistorter.nearest(seq.load_rgbd(i, camera.depth_map_factor).depth);
     const fs::path mask_file = sequence / "mask" / seq.entry(i).rgb_path.filename();
     if (fs::exists(mask_file)) {
       v.dynamic = cv::imread(mask_file.string(), cv::IMREAD_UNCHANGED);
       if (v.dynamic.type() != CV_8UC1 || v.dynamic.size() != v.depth.size())
         throw file_error(mask_file, "mask must be an 8-bit single-channel PNG of the depth image's size");
+      v.dynamic = undistorter.nearest(v.dynamic);
     }
     add_people(v, camera, max_depth, truth.people);
     views.push_back(std::move(v));
