@@ -43,21 +43,18 @@ def largest_jump(trajectory_file):
     return worst, at
 
 
-LIVE_POSE = re.compile(r"frame (\d+): tracked at \(([-\d.]+), ([-\d.]+), ([-\d.]+)\)")
+LIVE_STEP = re.compile(r"frame (\d+): tracked at \([-\d., ]+\), ([\d.]+) m from the last frame")
 
 
 def largest_live_jump(log):
-    """With --log-level debug: the largest distance between the live poses of two consecutive
-    tracked frames (what tracking itself did, before any later correction), and the frame."""
-    previous, worst, at = None, 0.0, 0
+    """With --log-level debug: the largest step tracking made from one frame to the next, the last
+    frame taken where its keyframe stands when the next is tracked (so a loop correction, which
+    moves both, is not a step; a relocalization is), and the frame."""
+    worst, at = 0.0, 0
     for line in log.splitlines():
-        m = LIVE_POSE.search(line)
-        if not m:
-            continue
-        frame, position = int(m.group(1)), [float(v) for v in m.groups()[1:]]
-        if previous is not None and previous[0] == frame - 1 and math.dist(position, previous[1]) > worst:
-            worst, at = math.dist(position, previous[1]), frame
-        previous = (frame, position)
+        m = LIVE_STEP.search(line)
+        if m and float(m.group(2)) > worst:
+            worst, at = float(m.group(2)), int(m.group(1))
     return worst, at
 
 
@@ -84,7 +81,7 @@ def main():
     ap.add_argument("--out", default="out/bench/divergence")
     ap.add_argument("--bin", default="build/release/bin/lrdslam")
     ap.add_argument("--log-level", default="info",
-                    help="of each run.log; debug adds every frame's live pose and reference keyframe")
+                    help="of each run.log; debug logs each frame's live pose and step, printed: the largest step")
     a = ap.parse_args()
 
     presets = a.presets.split(",")
@@ -97,7 +94,7 @@ def main():
     failed = []
     print(f"divergence hunt: {a.runs} threaded runs per preset, mode {a.mode}, {a.load} busy processes")
     print(f"{'preset':<19} {'run':>3} {'ATE cm':>9} {'jump m':>8} {'jump at':>17} {'loops':>5} {'rejected':>8} "
-          f"{'BA not merged':>13} {'lost':>5}" + ("  live jump m (frame)" if a.log_level == "debug" else ""))
+          f"{'BA not merged':>13} {'lost':>5}" + ("  live step m (frame)" if a.log_level == "debug" else ""))
     try:
         for preset in presets:
             sequence = os.path.join(a.cache, preset)

@@ -191,11 +191,15 @@ void Tracker::record(const data::Frame& frame) {
     rec.T_c_ref = frame.T_cw() * reference_kf_->T_wc();
     last_frame_reference_ = reference_kf_->id();
     last_T_c_ref_ = rec.T_c_ref;
-    // The live pose, as a robot sees it (the trajectory files hold the final ones): tells a jump
-    // made by tracking from one made by later corrections of the keyframes.
+    // The live pose, as a robot sees it (the trajectory files hold the final ones), and the step
+    // from the last frame as its keyframe stands now (a loop correction moved both): tells a jump
+    // made by tracking from one made by corrections of the keyframes.
     const Eigen::Vector3d t_wc = frame.T_wc().translation();
-    spdlog::debug("frame {}: tracked at ({:.3f}, {:.3f}, {:.3f}), reference keyframe {}", frame.id(),
-                  t_wc.x(), t_wc.y(), t_wc.z(), reference_kf_->id());
+    const double step =
+        last_frame_ && last_frame_->has_pose() ? (t_wc - last_frame_->T_wc().translation()).norm() : 0.0;
+    spdlog::debug(
+        "frame {}: tracked at ({:.3f}, {:.3f}, {:.3f}), {:.3f} m from the last frame, reference keyframe {}",
+        frame.id(), t_wc.x(), t_wc.y(), t_wc.z(), step, reference_kf_->id());
   }
   records_.push_back(rec);
   if (state_ == TrackingState::Ok)
