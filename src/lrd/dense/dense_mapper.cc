@@ -145,7 +145,8 @@ void DenseMapper::process(Pending p) {
   }
   RgbdView repaired_view = p.view;
   std::optional<RepairResult> repair;
-  if (params_.repair.enabled && !p.view.dynamic.empty() && cv::countNonZero(p.view.dynamic) > 0) {
+  const bool has_dynamic = !p.view.dynamic.empty() && cv::countNonZero(p.view.dynamic) > 0;
+  if (params_.repair.enabled && has_dynamic) {
     // The newest repair.keyframes of the kept keyframes.
     std::vector<const RgbdView*> sources;
     const std::size_t first =
@@ -165,13 +166,11 @@ void DenseMapper::process(Pending p) {
   // repair filled in from earlier keyframes: the occupancy map weighs them in that order.
   PointCloud local;
   std::size_t trusted = 0;
-  if (p.mask_carried) {
+  if (p.mask_carried || !has_dynamic) {
+    local = keyframe_cloud(p.view, p.view.dynamic);
     // A mask carried from an earlier frame lags the people by their motion since (beyond any
     // margin for someone close and fast): all the keyframe's own depth waits for confirmation.
-    local = keyframe_cloud(p.view, p.view.dynamic);
-  } else if (p.view.dynamic.empty() || cv::countNonZero(p.view.dynamic) == 0) {
-    local = keyframe_cloud(p.view, p.view.dynamic);
-    trusted = local.size();
+    trusted = p.mask_carried ? 0 : local.size();
   } else {
     const int r = params_.mask_margin_px;
     cv::Mat around;  // dynamic pixels and their margin

@@ -31,4 +31,15 @@ void EssentialGraph::add_map_edges(const std::vector<map::KeyFrame*>& keyframes,
   }
 }
 
+optim::PoseGraphResult EssentialGraph::solve(const std::vector<map::KeyFrame*>& keyframes,
+                                             const PoseOf& start, const map::KeyFrame* fixed,
+                                             int iterations) const {
+  std::vector<optim::PoseGraphNode> nodes;
+  nodes.reserve(keyframes.size());
+  for (map::KeyFrame* k : keyframes) nodes.push_back({k->id(), start(k), k == fixed});
+  optim::PoseGraphParams params;
+  params.iterations = iterations;
+  return optim::optimize_pose_graph(nodes, edges, params);
+}
+
 }  // namespace lrd::loop

@@ -29,6 +29,11 @@ struct EssentialGraph {
   // The spanning tree, loop edges and covisibility edges of weight >= min_weight among
   // `keyframes` (bad ones skipped), measured with `pose`.
   void add_map_edges(const std::vector<map::KeyFrame*>& keyframes, const PoseOf& pose, int min_weight);
+  // Optimizes the poses of `keyframes` over these edges from the poses `start` gives, `fixed`
+  // held still (the gauge).
+  [[nodiscard]] optim::PoseGraphResult solve(const std::vector<map::KeyFrame*>& keyframes,
+                                             const PoseOf& start, const map::KeyFrame* fixed,
+                                             int iterations) const;
 
  private:
   std::set<std::pair<std::uint64_t, std::uint64_t>> inserted_;

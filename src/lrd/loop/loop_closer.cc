@@ -28,6 +28,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 using KeyFramePoses = std::map<map::KeyFrame*, Eigen::Isometry3d, map::ById>;
 
+// A keyframe's pose in `poses`, or its current one if it has none there.
+Eigen::Isometry3d pose_in(const KeyFramePoses& poses, map::KeyFrame* k) {
+  const auto it = poses.find(k);
+  return it != poses.end() ? it->second : k->T_cw();
+}
+
 // The plausibility check of a loop's correction (reliability issue, item 1): a dry run of step 3 on
 // the graph as it is, with the loop's edge and the neighbourhood moved. A correction that changes
 // one spanning-tree edge by decimetres has not spread a drift along the loop: it would tear the
@@ -36,13 +42,7 @@ bool correction_is_plausible(const map::Map& map, const LoopClosingParams& param
                              const KeyFramePoses& uncorrected, const KeyFramePoses& corrected,
                              double correction_m) {
   const std::vector<map::KeyFrame*> all = map.keyframes();
-  const auto pose_in = [](const KeyFramePoses& poses, map::KeyFrame* k) {
-    const auto it = poses.find(k);
-    return it != poses.end() ? it->second : k->T_cw();
-  };
   const optim::PoseOf pre = [&](map::KeyFrame* k) { return pose_in(uncorrected, k); };
-  std::vector<optim::PoseGraphNode> nodes;
-  for (map::KeyFrame* k : all) nodes.push_back({k->id(), pose_in(corrected, k), k == loop.loop});
   // The fusion will link the neighbourhood across the loop: each of its keyframes to the loop
   // keyframe at its corrected pose stands in for those links.
   EssentialGraph graph;
@@ -50,9 +50,8 @@ bool correction_is_plausible(const map::Map& map, const LoopClosingParams& param
   for (const auto& [k, T_cw] : corrected)
     if (k != loop.loop) graph.add_edge(k, loop.loop, loop.loop->T_cw() * T_cw.inverse());
   graph.add_map_edges(all, pre, params.essential_min_weight);
-  optim::PoseGraphParams pg;
-  pg.iterations = params.pose_graph_iterations;
-  const optim::PoseGraphResult result = optim::optimize_pose_graph(nodes, graph.edges, pg);
+  const optim::PoseGraphResult result = graph.solve(
+      all, [&](map::KeyFrame* k) { return pose_in(corrected, k); }, loop.loop, params.pose_graph_iterations);
   const optim::TreeEdgeChange change =
       optim::largest_tree_edge_change(all, pre, [&](map::KeyFrame* k) { return result.T_cw.at(k->id()); });
   if (change.metres <= params.pose_graph_max_edge_change_m &&
@@ -294,19 +293,12 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
   }
 
   // 3. Essential-graph optimization; the loop keyframe anchors the gauge (ORB-SLAM2).
-  std::vector<optim::PoseGraphNode> nodes;
   const std::vector<map::KeyFrame*> all = map_.keyframes();
   KeyFramePoses before;  // poses before the optimization (corrected ones for the neighbourhood)
-  for (map::KeyFrame* k : all) {
-    before[k] = k->T_cw();
-    nodes.push_back({k->id(), k->T_cw(), k == loop.loop});
-  }
+  for (map::KeyFrame* k : all) before[k] = k->T_cw();
   // Odometry-like edges are measured with the poses before the correction: the drift they
   // contain is what the optimization spreads along the loop.
-  auto pre = [&](map::KeyFrame* k) {
-    const auto it = uncorrected.find(k);
-    return it != uncorrected.end() ? it->second : k->T_cw();
-  };
+  const optim::PoseOf pre = [&](map::KeyFrame* k) { return pose_in(uncorrected, k); };
   EssentialGraph graph;
   // The loop itself first, at the pose the loop measured.
   graph.add_edge(kf, loop.loop, loop.loop->T_cw() * loop.T_cw_corrected.inverse());
@@ -318,9 +310,8 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
       graph.add_edge(k, n, n->T_cw() * k->T_cw().inverse());
     }
   graph.add_map_edges(all, pre, params_.essential_min_weight);
-  optim::PoseGraphParams pg;
-  pg.iterations = params_.pose_graph_iterations;
-  const optim::PoseGraphResult result = optim::optimize_pose_graph(nodes, graph.edges, pg);
+  const optim::PoseGraphResult result = graph.solve(
+      all, [&](map::KeyFrame* k) { return before.at(k); }, loop.loop, params_.pose_graph_iterations);
   event.keyframes = all.size();
   event.pose_graph_edges = graph.edges.size();
   for (map::KeyFrame* k : all) k->set_pose(result.T_cw.at(k->id()));

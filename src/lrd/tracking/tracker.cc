@@ -194,12 +194,7 @@ void Tracker::record(const data::Frame& frame) {
     // The live pose, as a robot sees it (the trajectory files hold the final ones), and the step
     // from the last frame as its keyframe stands now (a loop correction moved both): tells a jump
     // made by tracking from one made by corrections of the keyframes.
-    const Eigen::Vector3d t_wc = frame.T_wc().translation();
-    const double step =
-        last_frame_ && last_frame_->has_pose() ? (t_wc - last_frame_->T_wc().translation()).norm() : 0.0;
-    spdlog::debug(
-        "frame {}: tracked at ({:.3f}, {:.3f}, {:.3f}), {:.3f} m from the last frame, reference keyframe {}",
-        frame.id(), t_wc.x(), t_wc.y(), t_wc.z(), step, reference_kf_->id());
+    if (spdlog::should_log(spdlog::level::debug)) log_live_pose(frame);
   }
   records_.push_back(rec);
   if (state_ == TrackingState::Ok)
@@ -266,6 +261,15 @@ map::KeyFrame* Tracker::initialize(data::Frame& frame) {
   inliers_ = static_cast<int>(with_depth);
   state_ = TrackingState::Ok;
   return kf;
+}
+
+void Tracker::log_live_pose(const data::Frame& frame) const {
+  const Eigen::Vector3d t_wc = frame.T_wc().translation();
+  const double step =
+      last_frame_ && last_frame_->has_pose() ? (t_wc - last_frame_->T_wc().translation()).norm() : 0.0;
+  spdlog::debug(
+      "frame {}: tracked at ({:.3f}, {:.3f}, {:.3f}), {:.3f} m from the last frame, reference keyframe {}",
+      frame.id(), t_wc.x(), t_wc.y(), t_wc.z(), step, reference_kf_->id());
 }
 
 void Tracker::update_last_frame() {

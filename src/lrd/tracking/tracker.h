@@ -110,6 +110,8 @@ class Tracker {
   void update_local_points(const data::Frame& frame);
   int search_local_points(data::Frame& frame);
   int optimize_pose(data::Frame& frame);
+  // Debug log: the frame's live pose and its step from the last frame (as its keyframe stands now).
+  void log_live_pose(const data::Frame& frame) const;
   void update_last_frame();
   void record(const data::Frame& frame);
   // Drops or replaces the pointers it keeps to the next frame that lead to removed keyframes or

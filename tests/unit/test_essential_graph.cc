@@ -1,0 +1,84 @@
+// The measures the loop closer and global BA judge their solutions by: the change of each
+// spanning-tree edge (tree_edge_change.h), and the essential graph a loop correction optimizes
+// (essential_graph.h), on keyframes made by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "keyframe_graph.h"
+#include "lrd/loop/essential_graph.h"
+#include "lrd/optim/tree_edge_change.h"
+
+using lrd::map::KeyFrame;
+using Graph = lrd::test::KeyFrameGraph;
+
+// The plausibility measure of loop corrections and global BA results (reliability issue): each
+// keyframe against its spanning-tree parent, after against before.
+TEST(EssentialGraph, TreeEdgeChangeNamesTheEdgeASolutionTearsMost) {
+  Graph g;
+  std::vector<KeyFrame*> chain;
+  for (int k = 0; k < 4; ++k) {
+    chain.push_back(g.keyframe(Eigen::Isometry3d(Eigen::Translation3d(-0.1 * k, 0.0, 0.0))));
+    if (k > 0) {
+      g.points(20, {chain[k - 1], chain[k]});
+      chain[k]->update_connections();
+      ASSERT_EQ(chain[k]->parent(), chain[k - 1]);
+    }
+  }
+  const lrd::optim::PoseOf before = [](KeyFrame* k) { return k->T_cw(); };
+  // The whole chain moved rigidly (a drift spread evenly): no edge changes.
+  const Eigen::Isometry3d shift(Eigen::Translation3d(3.0, -2.0, 1.0) *
+                                Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()));
+  const auto rigid =
+      lrd::optim::largest_tree_edge_change(chain, before, [&](KeyFrame* k) { return k->T_cw() * shift; });
+  EXPECT_LT(rigid.metres, 1e-9);
+  EXPECT_LT(rigid.degrees, 1e-6);
+  // Keyframe 2 and what follows it moved 0.4 m and 12 degrees: the edge 1-2 carries it all.
+  const Eigen::Isometry3d tear(Eigen::AngleAxisd(12.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()) *
+                               Eigen::Translation3d(0.0, 0.4, 0.0));
+  const lrd::optim::PoseOf torn = [&](KeyFrame* k) {
+    return k->id() >= chain[2]->id() ? tear * k->T_cw() : k->T_cw();
+  };
+  const auto change = lrd::optim::largest_tree_edge_change(chain, before, torn);
+  EXPECT_EQ(change.keyframe, chain[2]->id());
+  EXPECT_NEAR(change.degrees, 12.0, 1e-6);
+  EXPECT_GT(change.metres, 0.35);
+  // Edges the caller does not count are skipped.
+  const auto skipped = lrd::optim::largest_tree_edge_change(chain, before, torn,
+                                                            [&](const KeyFrame* k) { return k != chain[2]; });
+  EXPECT_LT(skipped.metres, 1e-9);
+}
+
+TEST(EssentialGraph, HasOneEdgePerPairMeasuredWithTheGivenPoses) {
+  Graph g;
+  KeyFrame* kf0 = g.keyframe();
+  KeyFrame* kf1 = g.keyframe(Eigen::Isometry3d(Eigen::Translation3d(-0.1, 0.0, 0.0)));
+  KeyFrame* kf2 = g.keyframe(Eigen::Isometry3d(Eigen::Translation3d(-0.2, 0.0, 0.0)));
+  g.points(30, {kf0, kf1});
+  kf1->update_connections();
+  g.points(30, {kf1, kf2});
+  g.points(20, {kf0, kf2});  // covisibility besides the tree
+  kf2->update_connections();
+  ASSERT_EQ(kf2->parent(), kf1);
+  lrd::loop::EssentialGraph graph;
+  // A loop link measured first keeps its measurement: the map's own edge for the pair is skipped.
+  const Eigen::Isometry3d loop_measured(Eigen::Translation3d(0.5, 0.0, 0.0));
+  graph.add_edge(kf2, kf0, loop_measured);
+  graph.add_edge(kf0, kf2, Eigen::Isometry3d::Identity());
+  ASSERT_EQ(graph.edges.size(), 1u);
+  const std::vector<KeyFrame*> all{kf0, kf1, kf2};
+  graph.add_map_edges(
+      all, [](KeyFrame* k) { return k->T_cw(); }, 15);
+  ASSERT_EQ(graph.edges.size(), 3u);  // the loop link, the tree edges 1-0 and 2-1
+  EXPECT_TRUE(graph.edges[0].T_to_from.isApprox(loop_measured));
+  for (std::size_t i = 1; i < graph.edges.size(); ++i) {
+    const auto& e = graph.edges[i];
+    EXPECT_NEAR(e.T_to_from.translation().norm(), 0.1, 1e-9) << e.from << "->" << e.to;
+  }
+  // Without the loop link and above every weight: the tree alone.
+  lrd::loop::EssentialGraph tree_only;
+  tree_only.add_map_edges(
+      all, [](KeyFrame* k) { return k->T_cw(); }, 1000);
+  EXPECT_EQ(tree_only.edges.size(), 2u);
+}
