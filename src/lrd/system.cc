@@ -302,9 +302,10 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
       cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
     else
       bgr = rgb.clone();
-    p.dense->add_keyframe(
-        outcome.new_keyframe, std::move(bgr), depth.type() == CV_32FC1 ? depth_m.clone() : depth_m,
-        frame.dynamic_mask.empty() ? cv::Mat() : frame.dynamic_mask.clone(), semantic.mask_age > 0);
+    p.dense->add_keyframe(outcome.new_keyframe, std::move(bgr),
+                          depth.type() == CV_32FC1 ? depth_m.clone() : depth_m,
+                          frame.dynamic_mask.empty() ? cv::Mat() : frame.dynamic_mask.clone(),
+                          /*mask_carried=*/p.front_end.uses_segmentation() && semantic.mask_age != 0);
   }
   if (options.deterministic) p.process_queued();
   const auto t3 = Clock::now();

@@ -62,6 +62,18 @@ def test_full_mode_is_byte_identical_when_deterministic(walking, tmp_path):
     assert (a / "CameraTrajectory.txt").read_bytes() == (b / "CameraTrajectory.txt").read_bytes()
 
 
+def test_async_first_frame_waits_for_its_own_mask(walking, tmp_path):
+    """The map is built on the first frame and what it puts there on people stays: in async mode
+    (max_wait_ms 0: no frame waits) the first one still waits for its own mask, once."""
+    out = tmp_path / "async"
+    lrdslam("run", "--sequence", walking, "--out", out, "--quiet", "--mode", "full", "--segmenter", "fnet",
+            "--max-frames", 30)
+    rows = [l.split() for l in (out / "track_times.txt").read_text().splitlines() if not l.startswith("#")]
+    assert len(rows) == 30
+    assert (int(rows[0][12]), int(rows[0][13])) == (0, 0)  # mask_frame, mask_age
+    assert any(int(r[13]) > 0 for r in rows[1:])  # the others take the newest mask, carried
+
+
 def test_geometry_check_finds_the_pushed_object(pushed, tmp_path):
     semantic = run(pushed, tmp_path / "semantic", "--mode", "semantic", "--segmenter", "gt-masks")
     full = run(pushed, tmp_path / "full", "--mode", "full", "--segmenter", "gt-masks")

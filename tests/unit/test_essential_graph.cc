@@ -1,24 +1,25 @@
 // The measures the loop closer and global BA judge their solutions by: the change of each
-// spanning-tree edge (tree_edge_change.h), and the essential graph a loop correction optimizes
-// (essential_graph.h), on keyframes made by hand.
+// spanning-tree edge and tracking link (odometry_change.h), and the essential graph a loop
+// correction optimizes (essential_graph.h), on keyframes made by hand.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <mutex>
+#include <set>
 #include <vector>
 
 #include "keyframe_graph.h"
 #include "lrd/loop/essential_graph.h"
-#include "lrd/optim/tree_edge_change.h"
+#include "lrd/optim/odometry_change.h"
 
 using lrd::map::KeyFrame;
 using Graph = lrd::test::KeyFrameGraph;
 
-// The plausibility measure of loop corrections and global BA results (reliability issue): each
-// keyframe against its spanning-tree parent, after against before.
-TEST(EssentialGraph, TreeEdgeChangeNamesTheEdgeASolutionTearsMost) {
-  Graph g;
-  std::vector<KeyFrame*> chain;
-  for (int k = 0; k < 4; ++k) {
+namespace {
+// n keyframes 10 cm apart, each the spanning-tree child of the one before.
+void make_chain(Graph& g, int n, std::vector<KeyFrame*>& chain) {
+  for (int k = 0; k < n; ++k) {
     chain.push_back(g.keyframe(Eigen::Isometry3d(Eigen::Translation3d(-0.1 * k, 0.0, 0.0))));
     if (k > 0) {
       g.points(20, {chain[k - 1], chain[k]});
@@ -26,12 +27,21 @@ TEST(EssentialGraph, TreeEdgeChangeNamesTheEdgeASolutionTearsMost) {
       ASSERT_EQ(chain[k]->parent(), chain[k - 1]);
     }
   }
+}
+}  // namespace
+
+// The plausibility measure of loop corrections and global BA results (reliability issue): each
+// keyframe against its spanning-tree parent, after against before.
+TEST(EssentialGraph, OdometryChangeNamesTheEdgeASolutionTearsMost) {
+  Graph g;
+  std::vector<KeyFrame*> chain;
+  ASSERT_NO_FATAL_FAILURE(make_chain(g, 4, chain));
   const lrd::optim::PoseOf before = [](KeyFrame* k) { return k->T_cw(); };
   // The whole chain moved rigidly (a drift spread evenly): no edge changes.
   const Eigen::Isometry3d shift(Eigen::Translation3d(3.0, -2.0, 1.0) *
                                 Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()));
   const auto rigid =
-      lrd::optim::largest_tree_edge_change(chain, before, [&](KeyFrame* k) { return k->T_cw() * shift; });
+      lrd::optim::largest_odometry_change(chain, before, [&](KeyFrame* k) { return k->T_cw() * shift; });
   EXPECT_LT(rigid.metres, 1e-9);
   EXPECT_LT(rigid.degrees, 1e-6);
   // Keyframe 2 and what follows it moved 0.4 m and 12 degrees: the edge 1-2 carries it all.
@@ -40,14 +50,69 @@ TEST(EssentialGraph, TreeEdgeChangeNamesTheEdgeASolutionTearsMost) {
   const lrd::optim::PoseOf torn = [&](KeyFrame* k) {
     return k->id() >= chain[2]->id() ? tear * k->T_cw() : k->T_cw();
   };
-  const auto change = lrd::optim::largest_tree_edge_change(chain, before, torn);
+  const auto change = lrd::optim::largest_odometry_change(chain, before, torn);
   EXPECT_EQ(change.keyframe, chain[2]->id());
   EXPECT_NEAR(change.degrees, 12.0, 1e-6);
   EXPECT_GT(change.metres, 0.35);
   // Edges the caller does not count are skipped.
-  const auto skipped = lrd::optim::largest_tree_edge_change(chain, before, torn,
-                                                            [&](const KeyFrame* k) { return k != chain[2]; });
+  const auto skipped = lrd::optim::largest_odometry_change(chain, before, torn,
+                                                           [&](const KeyFrame* k) { return k != chain[2]; });
   EXPECT_LT(skipped.metres, 1e-9);
+}
+
+// Consecutive frames can be tracked against keyframes far apart in the spanning tree: a solution
+// that bends every edge between them a little moves them apart a lot, and the camera trajectory
+// jumps between those frames. Their tracking link measures it.
+TEST(EssentialGraph, OdometryChangeMeasuresTrackingLinksAcrossTheTree) {
+  Graph g;
+  std::vector<KeyFrame*> chain;
+  ASSERT_NO_FATAL_FAILURE(make_chain(g, 6, chain));
+  // Each keyframe k moved 0.1 * k m along y: every tree edge changes by 0.1 m.
+  const lrd::optim::PoseOf before = [](KeyFrame* k) { return k->T_cw(); };
+  const lrd::optim::PoseOf bent = [&](KeyFrame* k) {
+    const auto k_index = static_cast<double>(std::find(chain.begin(), chain.end(), k) - chain.begin());
+    return k->T_cw() * Eigen::Isometry3d(Eigen::Translation3d(0.0, -0.1 * k_index, 0.0));
+  };
+  const auto tree_only = lrd::optim::largest_odometry_change(chain, before, bent);
+  EXPECT_NEAR(tree_only.metres, 0.1, 1e-9);
+  // Frames tracked against keyframe 0 and then keyframe 5 link them: 0.5 m, named.
+  chain[0]->add_tracking_link(chain[5]->id());
+  chain[5]->add_tracking_link(chain[0]->id());
+  const auto linked = lrd::optim::largest_odometry_change(chain, before, bent);
+  EXPECT_NEAR(linked.metres, 0.5, 1e-9);
+  EXPECT_EQ(std::minmax(linked.keyframe, linked.other), std::minmax(chain[0]->id(), chain[5]->id()));
+  // The loop correction's pose graph holds the link too: five tree edges and the link.
+  lrd::loop::EssentialGraph graph;
+  graph.add_map_edges(chain, before, 100);
+  EXPECT_EQ(graph.edges.size(), 6u);
+}
+
+// Frames tracked against a keyframe that culling removes follow its parent: so do its links.
+TEST(EssentialGraph, ARemovedKeyframesTrackingLinksGoToItsParent) {
+  Graph g;
+  KeyFrame* kf0 = g.keyframe();
+  KeyFrame* kf1 = g.keyframe(Eigen::Isometry3d(Eigen::Translation3d(-0.1, 0.0, 0.0)));
+  KeyFrame* kf2 = g.keyframe(Eigen::Isometry3d(Eigen::Translation3d(-0.2, 0.0, 0.0)));
+  KeyFrame* kf3 = g.keyframe(Eigen::Isometry3d(Eigen::Translation3d(-0.3, 0.0, 0.0)));
+  g.points(30, {kf0, kf1});
+  kf1->update_connections();
+  g.points(30, {kf0, kf2});
+  kf2->update_connections();
+  g.points(30, {kf2, kf3});
+  kf3->update_connections();
+  ASSERT_EQ(kf1->parent(), kf0);
+  ASSERT_EQ(kf3->parent(), kf2);
+  for (auto [a, b] : {std::pair{kf1, kf3}, std::pair{kf1, kf0}}) {
+    a->add_tracking_link(b->id());
+    b->add_tracking_link(a->id());
+  }
+  {
+    std::lock_guard lock(g.map.mutex());
+    kf1->set_bad();
+  }
+  EXPECT_TRUE(kf1->tracking_links().empty());
+  EXPECT_EQ(kf3->tracking_links(), std::set<std::uint64_t>{kf0->id()});
+  EXPECT_EQ(kf0->tracking_links(), std::set<std::uint64_t>{kf3->id()});  // not itself
 }
 
 TEST(EssentialGraph, HasOneEdgePerPairMeasuredWithTheGivenPoses) {

@@ -388,7 +388,42 @@ TEST(OccupancyAccuracy, CountsMatchesGhostsAndThePeoplesPath) {
   EXPECT_NEAR(a.recall(), 0.5, 0.06);
   EXPECT_EQ(a.path_cells, 1u);  // the person never moved here: one cell, blocked by the ghost
   EXPECT_EQ(a.path_blocked_cells, 1u);
+  ASSERT_EQ(a.blocked_path_cells.size(), 1u);  // named where it is, within half a cell
+  EXPECT_NEAR(a.blocked_path_cells[0].x(), 1.0f, 0.026f);
+  EXPECT_NEAR(a.blocked_path_cells[0].y(), 0.5f, 0.026f);
+  EXPECT_NE(lrd::eval::describe(a).find("1 of 1 cells blocked at ("), std::string::npos);
   EXPECT_EQ(a.grid_occupied_cells, 24u);  // 2 x 10 along the wall, 4 around the person's point
   EXPECT_EQ(a.grid_matching_cells, 20u);
   EXPECT_NEAR(a.grid_recall(), 0.5, 0.1);
+}
+
+// A cell within two cells of a static obstacle is no path cell, judged from the cell's centre, not
+// the person's point: a grid at 45 degrees to a wall puts the cell under a walker 11 cm from the
+// wall 8 cm from it, where the wall's own voxels may fill it (walking_rpy counted it blocked).
+TEST(OccupancyAccuracy, APathCellIsJudgedByItsOwnDistanceToObstacles) {
+  std::vector<Eigen::Vector3f> scene, people;
+  for (double x = 0.0; x <= 2.0; x += 0.01)
+    for (double z = 0.0; z <= 1.5; z += 0.02) scene.emplace_back(x, 1.0f, z);  // the wall, y = 1
+  const std::vector<char> seen(scene.size(), 1);
+  for (double z = 0.2; z <= 1.6; z += 0.1) {
+    people.emplace_back(1.0f, 0.89f, z);   // 11 cm from the wall
+    people.emplace_back(1.0f, 0.778f, z);  // 22 cm from it
+  }
+  const lrd::eval::OccupancyTruth truth{scene, seen, people};
+  // Cells on a 5 cm grid turned 45 degrees, one centred 8 cm from the wall (occupied by the wall's
+  // spill), the rest free.
+  const float a = 0.05f / std::sqrt(2.0f);
+  std::vector<Eigen::Vector3f> cells;
+  std::vector<std::int8_t> states;
+  for (int i = -6; i <= 6; ++i)
+    for (int j = -6; j <= 6; ++j) {
+      const Eigen::Vector3f c(1.0f + (i - j) * a, 0.92f + (i + j) * a, 0.9f);
+      if (c.y() > 1.0f) continue;
+      cells.push_back(c);
+      states.push_back(i == 0 && j == 0 ? 100 : 0);
+    }
+  const lrd::eval::OccupancyAccuracy acc = lrd::eval::evaluate_occupancy({}, cells, states, truth, 0.05);
+  EXPECT_EQ(acc.path_cells, 1u);  // only the cell 22 cm from the wall
+  EXPECT_EQ(acc.path_blocked_cells, 0u);
+  EXPECT_EQ(acc.path_free_cells, 1u);
 }

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "lrd/dense/confirmation_mask.h"
 #include "lrd/dense/voxel_grid.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map.h"
@@ -161,28 +162,19 @@ void DenseMapper::process(Pending p) {
     totals_.dynamic_pixels += static_cast<std::size_t>(rep.dynamic_pixels);
     totals_.filled_pixels += static_cast<std::size_t>(rep.filled_pixels);
   }
-  // The keyframe's own measurements (its dynamic pixels left out), those far from its dynamic
-  // pixels first, then those near them (where a mask misses a hand or a shoulder), then what the
-  // repair filled in from earlier keyframes: the occupancy map weighs them in that order.
-  PointCloud local;
-  std::size_t trusted = 0;
-  if (p.mask_carried || !has_dynamic) {
-    local = keyframe_cloud(p.view, p.view.dynamic);
-    // A mask carried from an earlier frame lags the people by their motion since (beyond any
-    // margin for someone close and fast): all the keyframe's own depth waits for confirmation.
-    trusted = p.mask_carried ? 0 : local.size();
-  } else {
-    const int r = params_.mask_margin_px;
-    cv::Mat around;  // dynamic pixels and their margin
-    cv::dilate(p.view.dynamic, around,
-               cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1)));
-    local = keyframe_cloud(p.view, around);
-    trusted = local.size();
-    cv::Mat not_margin;  // every pixel but the margin's
-    cv::bitwise_xor(around, p.view.dynamic, not_margin);
-    cv::bitwise_not(not_margin, not_margin);
-    append(local, keyframe_cloud(p.view, not_margin));
-  }
+  // The keyframe's own measurements (its dynamic pixels left out), those it can trust first, then
+  // those awaiting a second keyframe's confirmation, then what the repair filled in from earlier
+  // keyframes: the occupancy map weighs them in that order.
+  const cv::Mat waits = awaiting_confirmation(p.view.dynamic, p.view.depth.size(), params_, p.mask_carried);
+  PointCloud local = keyframe_cloud(p.view, waits);
+  const std::size_t trusted = local.size();
+  cv::Mat not_waiting;  // every pixel but the non-dynamic ones that wait
+  if (p.view.dynamic.empty())
+    not_waiting = waits;
+  else
+    cv::bitwise_and(waits, p.view.dynamic == 0, not_waiting);
+  cv::bitwise_not(not_waiting, not_waiting);
+  append(local, keyframe_cloud(p.view, not_waiting));
   const std::size_t measured = local.size();
   if (repair) {
     cv::Mat not_filled;  // every pixel but the dynamic ones the repair filled

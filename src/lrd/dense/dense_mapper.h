@@ -74,7 +74,8 @@ class DenseMapper {
   // Queues a new keyframe. bgr: CV_8UC3 BGR; depth: CV_32F metres; dynamic: CV_8UC1 or empty.
   // The images must not be written to afterwards (the caller hands over its copies).
   // mask_carried: the segmentation part of `dynamic` was made for an earlier frame and carried
-  // over (async schedule): none of the keyframe's own depth is trusted at once (see process()).
+  // over (async schedule), or no mask came for it though a network runs: none of the keyframe's
+  // own depth is trusted at once (see process()).
   void add_keyframe(const map::KeyFrame* kf, cv::Mat bgr, cv::Mat depth, cv::Mat dynamic,
                     bool mask_carried = false);
   // Processes every queued keyframe in the caller's thread.

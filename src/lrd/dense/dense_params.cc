@@ -15,6 +15,8 @@ DenseParams DenseParams::from_config(config::NodeReader r) {
   r.check(p.depth_edge > 0, "depth_edge", "must be > 0");
   p.mask_margin_px = r.get("mask_margin_px", p.mask_margin_px);
   r.check(p.mask_margin_px >= 0 && p.mask_margin_px <= 200, "mask_margin_px", "must be in [0, 200]");
+  p.edge_margin_px = r.get("edge_margin_px", p.edge_margin_px);
+  r.check(p.edge_margin_px >= 0 && p.edge_margin_px <= 200, "edge_margin_px", "must be in [0, 200]");
   p.max_memory_mb = r.get("max_memory_mb", p.max_memory_mb);
   r.check(p.max_memory_mb >= 0, "max_memory_mb", "must be >= 0 (0: no cap)");
   config::NodeReader q = r.section("repair");

@@ -27,6 +27,8 @@ struct DenseParams {
   // Pixels within this many of a dynamic one are where a mask misses a hand or a shoulder: the
   // occupancy map makes them a surface only once a second keyframe measures it too.
   int mask_margin_px = 50;
+  // The same within this many of the image's edge, where a segmenter misses a person cut off by it.
+  int edge_margin_px = 24;
   // MiB the stored keyframe clouds may take (16 bytes a point); 0: no cap. Over it, the clouds of
   // keyframes that keyframe culling removed go first, then the oldest; the newest
   // max(repair.keyframes, free_space.keyframes) always stay (bench_scale, issue 23).

@@ -69,7 +69,11 @@ SemanticMask DynamicFrontEnd::mask(std::uint64_t id, const cv::Mat& depth,
   current_depth_ = depth;
   SemanticMask out;
   if (!worker_) return out;
-  const bool sync = segmentation_.schedule == segmentation::Schedule::Sync;
+  // Until the first mask a frame waits for its own, as in sync: the map is built on the first
+  // frames, and what they put there on people stays (async FNet-lite's cold first run missed its
+  // deadline, and walking_rpy's first keyframe made a walker an obstacle in the occupancy map).
+  const bool sync =
+      segmentation_.schedule == segmentation::Schedule::Sync || (!had_mask_ && network_sees(id));
   // A frame the network was not given (async stride) takes the newest mask without waiting.
   std::optional<segmentation::SegmentationResult> result;
   try {
@@ -80,6 +84,7 @@ SemanticMask DynamicFrontEnd::mask(std::uint64_t id, const cv::Mat& depth,
     throw Error(std::string("segmentation thread: ") + e.what());
   }
   if (!result) return out;
+  had_mask_ = true;
   cv::Mat mask = result->mask.clone();  // dilated in place below; the worker keeps its copy
   const auto age = static_cast<int>(id - result->frame_id);
   out.mask_frame = static_cast<std::int64_t>(result->frame_id);

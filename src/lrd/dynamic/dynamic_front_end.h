@@ -89,6 +89,7 @@ class DynamicFrontEnd final : public MovingPointCheck {
   std::unique_ptr<segmentation::SegmentationWorker> worker_;
   std::deque<RecentFrame> recent_;
   cv::Mat current_depth_;
+  bool had_mask_ = false;  // a mask has come back from the network
 };
 
 }  // namespace lrd::dynamic

@@ -84,34 +84,42 @@ OccupancyAccuracy evaluate_occupancy(const std::vector<Eigen::Vector3f>& occupie
       recall_by_voxel(band_scene, band_seen, occupied_2d, resolution);
 
   // The people's path: the grid cell under each of their points in the band (nearest cell centre
-  // within half a diagonal), unless a static obstacle is within two cells (then that cell may hold
-  // the obstacle itself).
+  // within half a diagonal), unless a static obstacle is within two cells of the cell's centre
+  // (then the cell may hold the obstacle itself: judged from the person's points instead, a cell
+  // 8 cm from walking_rpy's wall counted as a walker's path, and the wall's voxels blocked it).
   const std::vector<Eigen::Vector3f> cells_2d = on_floor(cells);
   const PointGrid all_cells(cells_2d, resolution);
   const PointGrid near_obstacles(band_scene, 2.0 * resolution);
   std::set<std::size_t> path;
   for (const Eigen::Vector3f& p : truth.people) {
     if (!in_band(p, truth)) continue;
-    const Eigen::Vector3f q(p.x(), p.y(), 0.0f);
-    if (std::isfinite(near_obstacles.nearest(q))) continue;
     std::size_t cell = 0;
-    if (all_cells.nearest(q, cell) <= resolution * 0.7072) path.insert(cell);
+    if (all_cells.nearest(Eigen::Vector3f(p.x(), p.y(), 0.0f), cell) > resolution * 0.7072) continue;
+    if (!std::isfinite(near_obstacles.nearest(cells_2d[cell]))) path.insert(cell);
   }
   a.path_cells = path.size();
   for (std::size_t c : path) {
-    a.path_blocked_cells += cell_states[c] == 100;
     a.path_free_cells += cell_states[c] == 0;
+    if (cell_states[c] != 100) continue;
+    ++a.path_blocked_cells;
+    a.blocked_path_cells.emplace_back(cells[c].x(), cells[c].y());
   }
   return a;
 }
 
 std::string describe(const OccupancyAccuracy& a) {
+  std::string where;
+  constexpr std::size_t kShown = 5;
+  for (std::size_t i = 0; i < a.blocked_path_cells.size() && i < kShown; ++i)
+    where += fmt::format("{}({:.2f}, {:.2f})", i == 0 ? " at " : " ", a.blocked_path_cells[i].x(),
+                         a.blocked_path_cells[i].y());
+  if (a.blocked_path_cells.size() > kShown) where += " ...";
   return fmt::format(
       "occupied voxels: precision {:.1f} %, recall {:.1f} % at {:.0f} cm; {} people ghosts ({:.2f} %); "
-      "2-D grid: precision {:.1f} %, recall {:.1f} %; people's path: {} of {} cells blocked, {} free",
+      "2-D grid: precision {:.1f} %, recall {:.1f} %; people's path: {} of {} cells blocked{}, {} free",
       100.0 * a.precision(), 100.0 * a.recall(), 100.0 * a.resolution, a.people_ghosts,
       100.0 * a.people_ghost_share(), 100.0 * a.grid_precision(), 100.0 * a.grid_recall(),
-      a.path_blocked_cells, a.path_cells, a.path_free_cells);
+      a.path_blocked_cells, a.path_cells, where, a.path_free_cells);
 }
 
 }  // namespace lrd::eval

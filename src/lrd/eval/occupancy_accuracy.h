@@ -24,9 +24,10 @@ struct OccupancyAccuracy {
   std::size_t people_ghosts = 0;  // occupied map voxels on them and on no static surface
   std::size_t grid_occupied_cells = 0, grid_matching_cells = 0;
   std::size_t seen_scene_cells = 0, recalled_scene_cells = 0;
-  std::size_t path_cells = 0;          // grid cells the people walked through
-  std::size_t path_blocked_cells = 0;  // of those, occupied in the grid
-  std::size_t path_free_cells = 0;     // ... free (the rest unknown)
+  std::size_t path_cells = 0;                       // grid cells the people walked through
+  std::size_t path_blocked_cells = 0;               // of those, occupied in the grid
+  std::size_t path_free_cells = 0;                  // ... free (the rest unknown)
+  std::vector<Eigen::Vector2f> blocked_path_cells;  // where those blocked cells are (x, y)
 
   [[nodiscard]] static double share(std::size_t part, std::size_t whole) {
     return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
@@ -55,7 +56,8 @@ struct OccupancyTruth {
                                                    const OccupancyTruth& truth, double resolution);
 
 // "occupied voxels: precision 97.1 %, recall 93.4 % at 5 cm; 0 people ghosts (0.00 %); grid:
-// precision ..., recall ...; people's path: 0 of 812 cells blocked"
+// precision ..., recall ...; people's path: 0 of 812 cells blocked" (with up to five blocked
+// cells' places, so a user can find them on occupancy_2d.png)
 [[nodiscard]] std::string describe(const OccupancyAccuracy& a);
 
 }  // namespace lrd::eval

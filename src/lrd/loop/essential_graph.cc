@@ -1,6 +1,7 @@
 #include "lrd/loop/essential_graph.h"
 
 #include <algorithm>
+#include <unordered_map>
 
 #include "lrd/map/keyframe.h"
 
@@ -15,6 +16,8 @@ void EssentialGraph::add_edge(const map::KeyFrame* from, const map::KeyFrame* to
 
 void EssentialGraph::add_map_edges(const std::vector<map::KeyFrame*>& keyframes, const PoseOf& pose,
                                    int min_weight) {
+  std::unordered_map<std::uint64_t, map::KeyFrame*> by_id;
+  for (map::KeyFrame* k : keyframes) by_id.emplace(k->id(), k);
   for (map::KeyFrame* k : keyframes) {
     const Eigen::Isometry3d T_kw = pose(k);
     auto relative = [&](map::KeyFrame* n) { return pose(n) * T_kw.inverse(); };
@@ -27,6 +30,13 @@ void EssentialGraph::add_map_edges(const std::vector<map::KeyFrame*>& keyframes,
           k->loop_edges().count(n) != 0)
         continue;
       add_edge(k, n, relative(n));
+    }
+    // The camera trajectory passes between tracking-linked keyframes from one frame to the next:
+    // a correction must bend the map elsewhere (optim/odometry_change.h checks that it did).
+    for (const std::uint64_t id : k->tracking_links()) {
+      const auto it = by_id.find(id);
+      if (id < k->id() && it != by_id.end() && !it->second->is_bad())
+        add_edge(k, it->second, relative(it->second));
     }
   }
 }

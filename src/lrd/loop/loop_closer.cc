@@ -52,21 +52,23 @@ bool correction_is_plausible(const map::Map& map, const LoopClosingParams& param
   graph.add_map_edges(all, pre, params.essential_min_weight);
   const optim::PoseGraphResult result = graph.solve(
       all, [&](map::KeyFrame* k) { return pose_in(corrected, k); }, loop.loop, params.pose_graph_iterations);
-  const optim::TreeEdgeChange change =
-      optim::largest_tree_edge_change(all, pre, [&](map::KeyFrame* k) { return result.T_cw.at(k->id()); });
+  const optim::OdometryChange change =
+      optim::largest_odometry_change(all, pre, [&](map::KeyFrame* k) { return result.T_cw.at(k->id()); });
   if (change.metres <= params.pose_graph_max_edge_change_m &&
       change.degrees <= params.pose_graph_max_edge_change_deg) {
     spdlog::debug(
-        "loop {}-{}: correction {:.3f} m, dry run moves keyframe {} by {:.3f} m / {:.2f} deg against its "
-        "parent",
-        loop.current->id(), loop.loop->id(), correction_m, change.keyframe, change.metres, change.degrees);
+        "loop {}-{}: correction {:.3f} m, dry run moves keyframe {} by {:.3f} m / {:.2f} deg against "
+        "keyframe {}",
+        loop.current->id(), loop.loop->id(), correction_m, change.keyframe, change.metres, change.degrees,
+        change.other);
     return true;
   }
   spdlog::warn(
       "loop {}-{} rejected: its correction ({:.3f} m) would move keyframe {} by {:.3f} m / {:.1f} deg "
-      "against its parent (at most {} m / {} deg): the drift is not spread along the loop",
+      "against keyframe {}, its parent or tracked beside it (at most {} m / {} deg): the drift is not "
+      "spread along the loop",
       loop.current->id(), loop.loop->id(), correction_m, change.keyframe, change.metres, change.degrees,
-      params.pose_graph_max_edge_change_m, params.pose_graph_max_edge_change_deg);
+      change.other, params.pose_graph_max_edge_change_m, params.pose_graph_max_edge_change_deg);
   return false;
 }
 }  // namespace
@@ -314,6 +316,17 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
       all, [&](map::KeyFrame* k) { return before.at(k); }, loop.loop, params_.pose_graph_iterations);
   event.keyframes = all.size();
   event.pose_graph_edges = graph.edges.size();
+  // The dry run judged an approximation of this solve (the fusion's links stood in by edges to the
+  // loop keyframe): say how far the real one moves the odometry, for the divergence hunt.
+  const optim::OdometryChange change =
+      optim::largest_odometry_change(all, pre, [&](map::KeyFrame* k) { return result.T_cw.at(k->id()); });
+  if (change.metres > params_.pose_graph_max_edge_change_m ||
+      change.degrees > params_.pose_graph_max_edge_change_deg)
+    spdlog::warn(
+        "loop {}-{}: the correction moved keyframe {} by {:.3f} m / {:.1f} deg against keyframe {} "
+        "(its dry run stayed within {} m / {} deg)",
+        kf->id(), loop.loop->id(), change.keyframe, change.metres, change.degrees, change.other,
+        params_.pose_graph_max_edge_change_m, params_.pose_graph_max_edge_change_deg);
   for (map::KeyFrame* k : all) k->set_pose(result.T_cw.at(k->id()));
   // Followers (no edges) keep their place relative to the current keyframe.
   for (map::KeyFrame* k : followers) k->set_pose(before.at(k) * before.at(kf).inverse() * kf->T_cw());
@@ -390,13 +403,14 @@ void LoopCloser::run_global_ba(std::uint64_t run) {
   if (s.implausible)
     spdlog::warn(
         "global BA after loop at keyframe {} rejected: it would move keyframe {} by {:.3f} m and "
-        "{:.1f} deg against its parent (limits {} m, {} deg); the map keeps the pose-graph result",
-        run, s.worst_keyframe, s.largest_edge_change_m, s.largest_edge_change_deg, gp.max_edge_change_m,
-        gp.max_edge_change_deg);
+        "{:.1f} deg against keyframe {}, its parent or tracked beside it (limits {} m, {} deg); the map "
+        "keeps the pose-graph result",
+        run, s.worst_keyframe, s.largest_edge_change_m, s.largest_edge_change_deg, s.worst_other,
+        gp.max_edge_change_m, gp.max_edge_change_deg);
   else
     spdlog::info(
         "global BA after loop at keyframe {}: {} keyframes, {} points, rms {:.2f} -> {:.2f} px, "
-        "keyframes moved against their parents by up to {:.3f} m{}",
+        "keyframes moved against their parents and linked keyframes by up to {:.3f} m{}",
         run, s.keyframes, s.points, s.initial_rms_px, s.final_rms_px, s.largest_edge_change_m,
         s.aborted ? " (aborted)" : "");
   const double seconds = seconds_since(t0);

@@ -33,7 +33,8 @@ std::size_t KeyFrame::memory_bytes() const {
   return sizeof(KeyFrame) + frame_.memory_bytes() + points_.capacity() * sizeof(MapPoint*) +
          connections_.size() * (sizeof(std::pair<KeyFrame* const, int>) + kNode) +
          ordered_neighbours_.capacity() * sizeof(KeyFrame*) + ordered_weights_.capacity() * sizeof(int) +
-         (children_.size() + loop_edges_.size()) * (sizeof(KeyFrame*) + kNode);
+         (children_.size() + loop_edges_.size()) * (sizeof(KeyFrame*) + kNode) +
+         tracking_links_.size() * (sizeof(std::uint64_t) + kNode);
 }
 
 void KeyFrame::erase_map_point(const MapPoint* mp) {
@@ -225,7 +226,19 @@ void KeyFrame::set_bad() {
   if (parent_ != nullptr) {
     parent_->children_.erase(this);
     T_c_parent_ = T_cw_ * parent_->T_wc();
+    // Frames tracked against this keyframe now follow its parent (Map::resolve_pose): so do its links.
+    for (const std::uint64_t id : tracking_links_) {
+      KeyFrame* other = map_->keyframe(id);
+      if (other == nullptr) continue;
+      other->tracking_links_.erase(id_);
+      if (other == parent_) continue;
+      other->add_tracking_link(parent_->id_);
+      parent_->add_tracking_link(id);
+    }
   }
+  for (const std::uint64_t id : tracking_links_)
+    if (KeyFrame* other = map_->keyframe(id)) other->tracking_links_.erase(id_);
+  tracking_links_.clear();
   bad_ = true;
   map_->erase_keyframe(this);
 }

@@ -90,6 +90,15 @@ class KeyFrame {
     not_erase_ = true;
   }
   [[nodiscard]] const std::set<KeyFrame*, ById>& loop_edges() const { return loop_edges_; }
+  // Tracking links: keyframes that consecutive frames were tracked against, this one and another
+  // (the camera trajectory passes from one to the other between two frames). Not an edge of any
+  // optimization: what loop closing and global BA check their solutions against
+  // (optim/odometry_change.h). By id; a removed keyframe's links go to its parent. Not saved in
+  // map files.
+  void add_tracking_link(std::uint64_t other) {
+    if (other != id_) tracking_links_.insert(other);
+  }
+  [[nodiscard]] const std::set<std::uint64_t>& tracking_links() const { return tracking_links_; }
   // Essential-graph neighbours: parent, children, loop edges and covisibles with weight >= min_weight.
   [[nodiscard]] std::vector<KeyFrame*> essential_neighbours(int min_weight = 100) const;
 
@@ -147,6 +156,7 @@ class KeyFrame {
   KeyFrame* parent_ = nullptr;
   std::set<KeyFrame*, ById> children_;
   std::set<KeyFrame*, ById> loop_edges_;
+  std::set<std::uint64_t> tracking_links_;
   bool bad_ = false;
   bool not_erase_ = false;
   Eigen::Isometry3d T_c_parent_ = Eigen::Isometry3d::Identity();

@@ -11,7 +11,7 @@
 #include "lrd/map/map.h"
 #include "lrd/map/map_point.h"
 #include "lrd/optim/ba_problem.h"
-#include "lrd/optim/tree_edge_change.h"
+#include "lrd/optim/odometry_change.h"
 
 namespace lrd::optim {
 
@@ -85,8 +85,8 @@ GlobalBundleAdjustmentStats global_bundle_adjustment(map::Map& map, std::uint64_
   // queued for local mapping when the map was read) follows its parent below, or keeps its pose.
   std::vector<bool> observed(kfs.size(), false);
   for (const Observation& o : obs) observed[o.kf] = true;
-  // How far the solve moved each solved keyframe against its solved spanning-tree parent.
-  const TreeEdgeChange change = largest_tree_edge_change(
+  // How far the solve moved each solved keyframe against its solved parent and linked keyframes.
+  const OdometryChange change = largest_odometry_change(
       kfs, [&](map::KeyFrame* kf) { return from_block(initial_poses[index.at(kf)]); },
       [&](map::KeyFrame* kf) { return from_block(poses[index.at(kf)]); },
       [&](const map::KeyFrame* kf) {
@@ -96,6 +96,7 @@ GlobalBundleAdjustmentStats global_bundle_adjustment(map::Map& map, std::uint64_
   stats.largest_edge_change_m = change.metres;
   stats.largest_edge_change_deg = change.degrees;
   stats.worst_keyframe = change.keyframe;
+  stats.worst_other = change.other;
   if (stats.largest_edge_change_m > params.max_edge_change_m ||
       stats.largest_edge_change_deg > params.max_edge_change_deg) {
     stats.implausible = true;

@@ -37,11 +37,12 @@ struct GlobalBundleAdjustmentStats {
   int propagated_keyframes = 0;  // created during the solve, corrected through the spanning tree
   double initial_rms_px = 0.0;
   double final_rms_px = 0.0;
-  bool aborted = false;                // stopped by `abort` (a new loop): nothing was merged
-  bool implausible = false;            // a keyframe moved too far against its parent: nothing merged
-  double largest_edge_change_m = 0.0;  // over the spanning tree's edges among the solved keyframes
+  bool aborted = false;      // stopped by `abort` (a new loop): nothing was merged
+  bool implausible = false;  // a keyframe moved too far against its parent or a linked one: nothing merged
+  // Over the odometry pairs among the solved keyframes (optim/odometry_change.h).
+  double largest_edge_change_m = 0.0;
   double largest_edge_change_deg = 0.0;
-  std::uint64_t worst_keyframe = 0;  // the child of the edge that changed most
+  std::uint64_t worst_keyframe = 0, worst_other = 0;  // the pair that changed most
 };
 
 // `run` tags the keyframes this run optimizes (distinct per call).

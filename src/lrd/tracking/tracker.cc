@@ -186,8 +186,11 @@ void Tracker::record(const data::Frame& frame) {
   rec.timestamp = frame.timestamp();
   rec.state = state_;
   rec.inliers = inliers_;
+  const std::optional<std::uint64_t> previous = std::exchange(previous_reference_, std::nullopt);
   if (state_ == TrackingState::Ok && frame.has_pose() && reference_kf_ != nullptr) {
     rec.reference = reference_kf_->id();
+    previous_reference_ = rec.reference;
+    link_references(previous, reference_kf_);
     rec.T_c_ref = frame.T_cw() * reference_kf_->T_wc();
     last_frame_reference_ = reference_kf_->id();
     last_T_c_ref_ = rec.T_c_ref;
@@ -270,6 +273,17 @@ void Tracker::log_live_pose(const data::Frame& frame) const {
   spdlog::debug(
       "frame {}: tracked at ({:.3f}, {:.3f}, {:.3f}), {:.3f} m from the last frame, reference keyframe {}",
       frame.id(), t_wc.x(), t_wc.y(), t_wc.z(), step, reference_kf_->id());
+}
+
+void Tracker::link_references(std::optional<std::uint64_t> previous, map::KeyFrame* current) {
+  // The trajectory passes from the last frame's reference keyframe to this one's here: loop
+  // closing and global BA must not tear the two apart (optim/odometry_change.h). A frame
+  // relocalized after a lost one starts anew and links nothing.
+  if (!previous || *previous == current->id()) return;
+  map::KeyFrame* before = map_.keyframe(*previous);
+  if (before == nullptr || before->is_bad()) return;
+  before->add_tracking_link(current->id());
+  current->add_tracking_link(before->id());
 }
 
 void Tracker::update_last_frame() {

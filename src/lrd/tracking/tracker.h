@@ -113,6 +113,8 @@ class Tracker {
   // Debug log: the frame's live pose and its step from the last frame (as its keyframe stands now).
   void log_live_pose(const data::Frame& frame) const;
   void update_last_frame();
+  // Tracking links between the last frame's reference keyframe and this one's (map mutex held).
+  void link_references(std::optional<std::uint64_t> previous, map::KeyFrame* current);
   void record(const data::Frame& frame);
   // Drops or replaces the pointers it keeps to the next frame that lead to removed keyframes or
   // map points, then tells the map's reclamation so (map mutex held).
@@ -136,6 +138,8 @@ class Tracker {
   map::ReclamationMembership reclamation_;
   std::optional<data::Frame> last_frame_;
   std::optional<std::uint64_t> last_frame_reference_;
+  // The reference keyframe of the frame just before, if it was tracked (for the tracking links).
+  std::optional<std::uint64_t> previous_reference_;
   Eigen::Isometry3d last_T_c_ref_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> velocity_;  // T_c(t) c(t-1), over one camera frame
   double frame_period_ = 0.0;                  // seconds between camera frames (0: not yet known)

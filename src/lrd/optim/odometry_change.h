@@ -1,0 +1,36 @@
+#pragma once
+// How much a solution (a pose graph's, a global BA's) changes the map's odometry: each keyframe's
+// pose relative to its spanning-tree parent, and relative to the keyframes it is tracking-linked
+// to (consecutive frames were tracked against the two: the camera trajectory passes from one to
+// the other between two frames), after against before. Odometry between keyframes a fraction of
+// a second apart is never wrong by decimetres, so a solution that changes one such pair that much
+// has not spread a drift but torn the map, and the camera trajectory would jump there
+// (reliability issue, item 1).
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace lrd::map {
+class KeyFrame;
+}
+
+namespace lrd::optim {
+
+// World-to-camera pose of a keyframe under one solution (or before it).
+using PoseOf = std::function<Eigen::Isometry3d(map::KeyFrame*)>;
+
+struct OdometryChange {
+  double metres = 0.0;
+  double degrees = 0.0;
+  std::uint64_t keyframe = 0;  // the pair whose relative position changed most: this keyframe
+  std::uint64_t other = 0;     // ... and its parent or linked keyframe
+};
+
+// Over the pairs among `keyframes` (bad ones skipped; with `counted`, only pairs of which it
+// accepts both): each with its parent, and with each keyframe it is tracking-linked to.
+[[nodiscard]] OdometryChange largest_odometry_change(
+    const std::vector<map::KeyFrame*>& keyframes, const PoseOf& before, const PoseOf& after,
+    const std::function<bool(const map::KeyFrame*)>& counted = {});
+
+}  // namespace lrd::optim
