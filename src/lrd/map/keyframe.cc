@@ -226,18 +226,16 @@ void KeyFrame::set_bad() {
   if (parent_ != nullptr) {
     parent_->children_.erase(this);
     T_c_parent_ = T_cw_ * parent_->T_wc();
-    // Frames tracked against this keyframe now follow its parent (Map::resolve_pose): so do its links.
-    for (const std::uint64_t id : tracking_links_) {
-      KeyFrame* other = map_->keyframe(id);
-      if (other == nullptr) continue;
-      other->tracking_links_.erase(id_);
-      if (other == parent_) continue;
-      other->add_tracking_link(parent_->id_);
-      parent_->add_tracking_link(id);
-    }
   }
-  for (const std::uint64_t id : tracking_links_)
-    if (KeyFrame* other = map_->keyframe(id)) other->tracking_links_.erase(id_);
+  // Frames tracked against this keyframe now follow its parent (Map::resolve_pose): so do its links.
+  for (const std::uint64_t id : tracking_links_) {
+    KeyFrame* other = map_->keyframe(id);
+    if (other == nullptr) continue;
+    other->tracking_links_.erase(id_);
+    if (parent_ == nullptr || other == parent_) continue;
+    other->add_tracking_link(parent_->id_);
+    parent_->add_tracking_link(id);
+  }
   tracking_links_.clear();
   bad_ = true;
   map_->erase_keyframe(this);

@@ -91,10 +91,10 @@ class KeyFrame {
   }
   [[nodiscard]] const std::set<KeyFrame*, ById>& loop_edges() const { return loop_edges_; }
   // Tracking links: keyframes that consecutive frames were tracked against, this one and another
-  // (the camera trajectory passes from one to the other between two frames). Not an edge of any
-  // optimization: what loop closing and global BA check their solutions against
-  // (optim/odometry_change.h). By id; a removed keyframe's links go to its parent. Not saved in
-  // map files.
+  // (the camera trajectory passes from one to the other between two frames). Edges of the loop
+  // correction's essential graph, and what loop closing and global BA check their solutions
+  // against (optim/odometry_change.h). By id; a removed keyframe's links go to its parent. Not
+  // saved in map files.
   void add_tracking_link(std::uint64_t other) {
     if (other != id_) tracking_links_.insert(other);
   }
