@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <random>
+#include <vector>
 
 #include "lrd/map/map.h"
 #include "lrd/optim/local_bundle_adjuster.h"
@@ -159,9 +161,27 @@ TEST(LocalBundleAdjustment, RecoversPosesAndPointsAndRemovesOutliers) {
   }
   const auto points_before = p.point_error();
   const Eigen::Matrix4d T0_before = p.kfs[0]->T_cw().matrix();
+  std::vector<Eigen::Isometry3d> poses_before;
+  for (KeyFrame* kf : p.kfs) poses_before.push_back(kf->T_cw());
 
   const auto stats = local_bundle_adjustment(p.kfs[3], p.map);
   EXPECT_FALSE(stats.aborted);
+  // The drift it removed, as the change of each keyframe against its parent: the largest is
+  // reported with the pair's names (local mapping logs it for the divergence hunt).
+  double largest = 0.0;
+  std::uint64_t worst = 0;
+  for (std::size_t k = 1; k < 4; ++k) {
+    const KeyFrame* parent = p.kfs[k]->parent();
+    ASSERT_NE(parent, nullptr);
+    const std::size_t pi = static_cast<std::size_t>(parent->id() - p.kfs[0]->id());
+    const Eigen::Isometry3d before = poses_before[k] * poses_before[pi].inverse();
+    const Eigen::Isometry3d after = p.kfs[k]->T_cw() * parent->T_cw().inverse();
+    const double moved = (before.inverse() * after).translation().norm();
+    if (moved > largest) largest = moved, worst = p.kfs[k]->id();
+  }
+  EXPECT_GT(largest, 0.02);
+  EXPECT_NEAR(stats.odometry_change.metres, largest, 1e-9);
+  EXPECT_EQ(stats.odometry_change.keyframe, worst);
   EXPECT_EQ(stats.local_keyframes, 4);  // keyframe 3 and its three covisible keyframes
   EXPECT_EQ(stats.fixed_keyframes, 0);
   EXPECT_EQ(stats.points, static_cast<int>(p.points.size()));

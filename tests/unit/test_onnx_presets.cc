@@ -17,6 +17,7 @@
 #include "lrd/segmentation/onnx_presets.h"
 #include "lrd/segmentation/onnx_segmenter.h"
 #include "lrd/segmentation/segmentation_params.h"
+#include "mask_iou.h"
 #include "shared_dir.h"
 #include "temp_dir.h"
 
@@ -52,10 +53,7 @@ fs::path converted(const std::string& preset) {
       GTEST_SKIP() << preset << " model not converted yet: run scripts/fetch-models.sh";        \
   } while (0)
 
-double iou(const cv::Mat& a, const cv::Mat& b) {
-  const double inter = cv::countNonZero(a & b), uni = cv::countNonZero(a | b);
-  return uni == 0 ? 1.0 : inter / uni;
-}
+using lrd::test::mask_iou;
 
 }  // namespace
 
@@ -148,7 +146,7 @@ TEST(ConvertedSelfie, ReproducesTheReferenceMasksOnThePhotos) {
     ASSERT_FALSE(ref.empty());
     const cv::Mat mask = seg.segment(img, false, 0.0);
     ASSERT_EQ(mask.size(), ref.size());
-    EXPECT_GE(iou(mask != 0, ref != 0), 0.98);
+    EXPECT_GE(mask_iou(mask != 0, ref != 0), 0.98);
   }
 }
 
@@ -169,7 +167,7 @@ TEST(ConvertedSelfie, LandscapeOutputEqualsTheReferenceConversion) {
     ASSERT_EQ(a.size[3], 256);
     ASSERT_EQ(a.total(), b.total());
     EXPECT_LT(cv::norm(a.reshape(1, 1), b.reshape(1, 1), cv::NORM_INF), 1e-3);
-    EXPECT_GE(iou(ours.segment(img, false, 0.0), theirs.segment(img, false, 0.0)), 0.98);
+    EXPECT_GE(mask_iou(ours.segment(img, false, 0.0), theirs.segment(img, false, 0.0)), 0.98);
   }
 }
 

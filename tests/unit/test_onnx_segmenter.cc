@@ -19,6 +19,7 @@
 #include "lrd/segmentation/onnx_segmenter.h"
 #include "lrd/segmentation/segmentation_params.h"
 #include "lrd/util/error.h"
+#include "mask_iou.h"
 #include "shared_dir.h"
 
 namespace fs = std::filesystem;
@@ -94,10 +95,7 @@ cv::Mat reference(const std::string& model, const std::string& photo_name) {
 
 using lrd::test::error_of;
 
-double iou(const cv::Mat& a, const cv::Mat& b) {
-  const double inter = cv::countNonZero(a & b), uni = cv::countNonZero(a | b);
-  return uni == 0 ? 1.0 : inter / uni;
-}
+using lrd::test::mask_iou;
 
 }  // namespace
 
@@ -119,7 +117,7 @@ TEST(OnnxSegmenter, EspnetVocLabelsMatchTheReference) {
         1.0 - static_cast<double>(cv::countNonZero(labels != ref)) / static_cast<double>(ref.total());
     EXPECT_GE(agree, 0.98);
     // The person class is found where the reference has it.
-    EXPECT_GE(iou(labels == 15, ref == 15), 0.95);
+    EXPECT_GE(mask_iou(labels == 15, ref == 15), 0.95);
     double max_label = 0.0;
     cv::minMaxLoc(labels, nullptr, &max_label);
     EXPECT_LT(max_label, 21.0);
@@ -141,7 +139,7 @@ TEST(OnnxSegmenter, EspnetMaskIsTheDynamicClasses) {
   ASSERT_EQ(mask.type(), CV_8UC1);
   ASSERT_EQ(mask.size(), img.size());
   const cv::Mat expected = (ref == 13) | (ref == 15);
-  EXPECT_GE(iou(mask, expected), 0.95);
+  EXPECT_GE(mask_iou(mask, expected), 0.95);
   EXPECT_LT(cv::countNonZero(mask & (ref == 7)), 0.02 * cv::countNonZero(ref == 7));
   EXPECT_EQ(cv::countNonZero((mask != 0) & (mask != 255)), 0);
 }
@@ -160,7 +158,7 @@ TEST(OnnxSegmenter, SelfiePersonMaskMatchesTheReference) {
     double max_label = 0.0;
     cv::minMaxLoc(labels, nullptr, &max_label);
     EXPECT_LE(max_label, 1.0);  // probability layout: 1 above the threshold, else 0
-    EXPECT_GE(iou(labels != 0, ref != 0), 0.98);
+    EXPECT_GE(mask_iou(labels != 0, ref != 0), 0.98);
   }
 }
 
@@ -174,7 +172,7 @@ TEST(OnnxSegmenter, SelfieSegmentGivesAFullMaskInEitherChannelOrder) {
   ASSERT_EQ(from_bgr.type(), CV_8UC1);
   EXPECT_EQ(cv::countNonZero(from_bgr != from_rgb), 0);  // the same blob either way
   EXPECT_EQ(cv::countNonZero((from_bgr != 0) & (from_bgr != 255)), 0);
-  EXPECT_GE(iou(from_bgr, ref), 0.98);
+  EXPECT_GE(mask_iou(from_bgr, ref), 0.98);
   EXPECT_GT(cv::countNonZero(from_bgr), static_cast<int>(0.05 * static_cast<double>(from_bgr.total())));
   // Passing the wrong order changes the input (red and blue swapped), so the result may differ,
   // but a grey image is accepted and segmented at its own size.

@@ -320,6 +320,8 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
   // loop keyframe): say how far the real one moves the odometry, for the divergence hunt.
   const optim::OdometryChange change =
       optim::largest_odometry_change(all, pre, [&](map::KeyFrame* k) { return result.T_cw.at(k->id()); });
+  spdlog::debug("loop {}-{}: the correction moved keyframe {} by {:.3f} m / {:.1f} deg against keyframe {}",
+                kf->id(), loop.loop->id(), change.keyframe, change.metres, change.degrees, change.other);
   if (change.metres > params_.pose_graph_max_edge_change_m ||
       change.degrees > params_.pose_graph_max_edge_change_deg)
     spdlog::warn(

@@ -5,6 +5,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "lrd/map/map_file_format.h"
 #include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
 
@@ -18,9 +19,9 @@ using util::put_i32;
 using util::put_u32;
 using util::put_u64;
 
-constexpr char kMagic[8] = {'L', 'R', 'D', 'M', 'A', 'P', '0', '1'};
-constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8;
-constexpr std::uint64_t kNone = UINT64_MAX;
+using file_format::kHeaderBytes;
+using file_format::kMagic;
+using file_format::kNone;
 
 // --- writing
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "lrd/map/map_file.h"
+#include "lrd/map/map_file_format.h"
 #include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
 
@@ -13,9 +14,9 @@ namespace lrd::map {
 
 namespace {
 
-constexpr char kMagic[8] = {'L', 'R', 'D', 'M', 'A', 'P', '0', '1'};
-constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8;
-constexpr std::uint64_t kNone = UINT64_MAX;
+using file_format::kHeaderBytes;
+using file_format::kMagic;
+using file_format::kNone;
 // The fewest bytes a keypoint, an edge, an observation take: counts beyond what the section can
 // hold are corrupt, not allocations to attempt.
 constexpr std::size_t kKeypointBytes = 5 * 4 + 2 * 4 + 4 * 4 + 32 + 8;

@@ -131,6 +131,11 @@ void LocalMapper::process(std::uint64_t keyframe_id) {
       const auto tb = std::chrono::steady_clock::now();
       // Lock-step runs never abort: the result must not depend on timing.
       const auto ba = optim::local_bundle_adjustment(kf, map_, threaded_ ? &abort_ba_ : nullptr, params_.ba);
+      if (!ba.aborted && ba.odometry_change.metres > 0.05)
+        spdlog::debug(
+            "local BA at keyframe {}: moved keyframe {} by {:.3f} m / {:.1f} deg against keyframe {}",
+            kf->id(), ba.odometry_change.keyframe, ba.odometry_change.metres, ba.odometry_change.degrees,
+            ba.odometry_change.other);
       std::lock_guard lock(stats_mutex_);
       ++stats_.bundle_adjustments;
       if (ba.aborted) ++stats_.aborted_bundle_adjustments;

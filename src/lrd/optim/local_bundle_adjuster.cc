@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <unordered_map>
 #include <vector>
 
 #include "lrd/map/keyframe.h"
@@ -127,8 +128,16 @@ LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map:
     kf->erase_map_point(mp);  // its slot, and a second one if tracking matched it twice
     mp->erase_observation(kf);
   }
+  std::unordered_map<const map::KeyFrame*, Eigen::Isometry3d> solved;
+  for (std::size_t i = 0; i < n_local; ++i) solved.emplace(kfs[i], from_block(poses[i]));
+  stats.odometry_change = largest_odometry_change(
+      kfs, [](map::KeyFrame* kf) { return kf->T_cw(); },
+      [&](map::KeyFrame* kf) {
+        const auto it = solved.find(kf);
+        return it != solved.end() ? it->second : kf->T_cw();
+      });
   for (std::size_t i = 0; i < n_local; ++i)
-    if (!kfs[i]->is_bad()) kfs[i]->set_pose(from_block(poses[i]));
+    if (!kfs[i]->is_bad()) kfs[i]->set_pose(solved.at(kfs[i]));
   for (std::size_t p = 0; p < mps.size(); ++p) {
     if (mps[p]->is_bad()) continue;
     mps[p]->set_position(Eigen::Vector3d(points[p][0], points[p][1], points[p][2]));

@@ -9,6 +9,8 @@
 // so tracking goes on meanwhile. An `abort` flag stops the solve (a new keyframe arrived).
 #include <atomic>
 
+#include "lrd/optim/odometry_change.h"
+
 namespace lrd::map {
 class KeyFrame;
 class Map;
@@ -33,6 +35,9 @@ struct LocalBundleAdjustmentStats {
   double initial_rms_px = 0.0;  // weighted reprojection error before and after
   double final_rms_px = 0.0;
   bool aborted = false;
+  // The result against the poses it replaced: each local keyframe relative to its parent and its
+  // tracking-linked keyframes (odometry_change.h). Local mapping logs it (the divergence hunt).
+  OdometryChange odometry_change;
 };
 
 LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map::Map& map,

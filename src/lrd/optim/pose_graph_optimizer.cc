@@ -19,16 +19,16 @@ namespace {
 // its translation, on the product of EigenQuaternionManifold and R^3 (6 degrees of freedom). With
 // a multiplicative update no rotation is singular: keyframes all round a room reach angles of pi,
 // where angle-axis blocks degrade.
-using PoseBlock = std::array<double, 7>;
+using QuaternionPoseBlock = std::array<double, 7>;
 using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold, ceres::EuclideanManifold<3>>;
 
-PoseBlock to_block(const Eigen::Isometry3d& T) {
+QuaternionPoseBlock to_quaternion_block(const Eigen::Isometry3d& T) {
   const Eigen::Quaterniond q = Eigen::Quaterniond(T.linear()).normalized();
   const Eigen::Vector3d t = T.translation();
   return {q.x(), q.y(), q.z(), q.w(), t.x(), t.y(), t.z()};
 }
 
-Eigen::Isometry3d from_block(const PoseBlock& b) {
+Eigen::Isometry3d from_quaternion_block(const QuaternionPoseBlock& b) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::Quaterniond(b[3], b[0], b[1], b[2]).normalized().toRotationMatrix();
   T.translation() = Eigen::Vector3d(b[4], b[5], b[6]);
@@ -115,8 +115,8 @@ PoseGraphResult optimize_pose_graph(const std::vector<PoseGraphNode>& nodes,
   if (edges.empty()) return result;
 
   // Sized once: Ceres keeps pointers into it.
-  std::vector<PoseBlock> blocks(nodes.size());
-  for (std::size_t i = 0; i < nodes.size(); ++i) blocks[i] = to_block(nodes[i].T_cw);
+  std::vector<QuaternionPoseBlock> blocks(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) blocks[i] = to_quaternion_block(nodes[i].T_cw);
 
   // Declared before the problem, which does not own it and must not outlive it.
   PoseManifold pose_manifold;
@@ -162,7 +162,7 @@ PoseGraphResult optimize_pose_graph(const std::vector<PoseGraphNode>& nodes,
   result.iterations = std::max(0, static_cast<int>(summary.iterations.size()) - 1);
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (!nodes[i].fixed && problem.HasParameterBlock(blocks[i].data()))
-      result.T_cw[nodes[i].id] = from_block(blocks[i]);
+      result.T_cw[nodes[i].id] = from_quaternion_block(blocks[i]);
   return result;
 }
 
