@@ -171,6 +171,9 @@ def main():
                 print(f"{preset:<19} {run:>3} {100 * ate:>9.2f} {jump:>8.3f} {jump_at:>17.6f} {len(s['loops']):>5} "
                       f"{s.get('rejected_loops', 0):>8} {s.get('implausible_global_bundle_adjustments', 0):>13} "
                       f"{s['lost']:>5}" + (live_column(r.stdout) if a.log_level == "debug" else ""), flush=True)
+                fallbacks = sum(1 for loop in s["loops"] if loop.get("dry_run_solution"))
+                if fallbacks:  # the solve with the fusion's links tore the odometry (loop_closer.cc)
+                    print(f"    loops that took their dry run's solution: {fallbacks}", flush=True)
                 if a.log_level == "debug":
                     print(most_torn_pair(r.stdout, out, sequence), flush=True)
                 if a.mode == "full" and ate > 0.02:

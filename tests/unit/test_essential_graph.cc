@@ -60,6 +60,37 @@ TEST(EssentialGraph, OdometryChangeNamesTheEdgeASolutionTearsMost) {
   EXPECT_LT(skipped.metres, 1e-9);
 }
 
+// The loop correction's real solve is judged like its dry run: a solution that tears an edge
+// beyond the limits gives way to the fallback (the dry run's poses), one within them stays.
+TEST(EssentialGraph, ATornSolutionGivesWayToTheFallback) {
+  Graph g;
+  std::vector<KeyFrame*> chain;
+  ASSERT_NO_FATAL_FAILURE(make_chain(g, 4, chain));
+  const lrd::optim::PoseOf before = [](KeyFrame* k) { return k->T_cw(); };
+  // Fallback: the chain moved 0.05 m a keyframe further from keyframe 0 (edges change 5 cm).
+  // Torn: keyframes 2 and 3 moved 0.5 m at once (edge 1-2 changes 0.5 m).
+  lrd::optim::SolvedPoses fallback, torn, spread;
+  for (KeyFrame* k : chain) {
+    const double i = static_cast<double>(k->id() - chain[0]->id());
+    fallback[k->id()] = Eigen::Translation3d(0.05 * i, 0.0, 0.0) * k->T_cw();
+    torn[k->id()] = Eigen::Translation3d(i >= 2 ? 0.5 : 0.0, 0.0, 0.0) * k->T_cw();
+    spread[k->id()] = Eigen::Translation3d(0.1 * i, 0.0, 0.0) * k->T_cw();
+  }
+  const auto taken = lrd::optim::fall_back_if_torn(chain, before, torn, fallback, 0.25, 10.0);
+  EXPECT_TRUE(taken.taken);
+  EXPECT_NEAR(taken.change.metres, 0.5, 1e-9);
+  EXPECT_EQ(taken.change.keyframe, chain[2]->id());
+  EXPECT_EQ(taken.change.other, chain[1]->id());
+  for (KeyFrame* k : chain) EXPECT_TRUE(torn.at(k->id()).isApprox(fallback.at(k->id()), 1e-12)) << k->id();
+  // 10 cm an edge is within 0.25 m: the solution stays as it is.
+  const lrd::optim::SolvedPoses spread_before = spread;
+  const auto kept = lrd::optim::fall_back_if_torn(chain, before, spread, fallback, 0.25, 10.0);
+  EXPECT_FALSE(kept.taken);
+  EXPECT_NEAR(kept.change.metres, 0.1, 1e-9);
+  for (KeyFrame* k : chain)
+    EXPECT_EQ(spread.at(k->id()).matrix(), spread_before.at(k->id()).matrix()) << k->id();
+}
+
 // Consecutive frames can be tracked against keyframes far apart in the spanning tree: a solution
 // that bends every edge between them a little moves them apart a lot, and the camera trajectory
 // jumps between those frames. Their tracking link measures it.

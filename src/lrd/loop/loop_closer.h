@@ -75,6 +75,8 @@ struct LoopEvent {
   std::size_t pose_graph_edges = 0;
   double detection_seconds = 0.0;   // place recognition and the loop's relative pose
   double correction_seconds = 0.0;  // moving the neighbourhood, fusion, pose graph, every point
+  // The solve with the fusion's links tore the odometry; the map took the dry run's solution.
+  bool dry_run_solution = false;
 };
 
 // One global bundle adjustment after a loop (its own thread when threaded).

@@ -40,4 +40,17 @@ OdometryChange largest_odometry_change(const std::vector<map::KeyFrame*>& keyfra
   return worst;
 }
 
+Fallback fall_back_if_torn(const std::vector<map::KeyFrame*>& keyframes, const PoseOf& before,
+                           SolvedPoses& solution, const SolvedPoses& fallback, double max_metres,
+                           double max_degrees) {
+  Fallback f;
+  f.change =
+      largest_odometry_change(keyframes, before, [&](map::KeyFrame* k) { return solution.at(k->id()); });
+  if (f.change.metres <= max_metres && f.change.degrees <= max_degrees) return f;
+  f.taken = true;
+  for (auto& [id, T_cw] : solution)
+    if (const auto it = fallback.find(id); it != fallback.end()) T_cw = it->second;
+  return f;
+}
+
 }  // namespace lrd::optim

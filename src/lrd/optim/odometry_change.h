@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <vector>
 
 namespace lrd::map {
@@ -32,5 +33,20 @@ struct OdometryChange {
 [[nodiscard]] OdometryChange largest_odometry_change(
     const std::vector<map::KeyFrame*>& keyframes, const PoseOf& before, const PoseOf& after,
     const std::function<bool(const map::KeyFrame*)>& counted = {});
+
+// Poses of one solution by keyframe id (as optim::PoseGraphResult::T_cw holds them).
+using SolvedPoses = std::map<std::uint64_t, Eigen::Isometry3d>;
+
+struct Fallback {
+  OdometryChange change;  // of the solution judged
+  bool taken = false;     // it went beyond the limits and the fallback replaced it
+};
+
+// `solution`, or, when it changes the odometry of `keyframes` (against `before`) beyond the limits,
+// the `fallback` solution's poses in its place (poses the fallback lacks stay): the loop
+// correction's real solve and its dry run (loop_closer.cc).
+Fallback fall_back_if_torn(const std::vector<map::KeyFrame*>& keyframes, const PoseOf& before,
+                           SolvedPoses& solution, const SolvedPoses& fallback, double max_metres,
+                           double max_degrees);
 
 }  // namespace lrd::optim
