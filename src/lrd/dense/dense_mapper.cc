@@ -168,12 +168,13 @@ void DenseMapper::process(Pending p) {
   const cv::Mat waits = awaiting_confirmation(p.view.dynamic, p.view.depth.size(), params_, p.mask_carried);
   PointCloud local = keyframe_cloud(p.view, waits);
   const std::size_t trusted = local.size();
-  cv::Mat not_waiting;  // every pixel but the non-dynamic ones that wait
-  if (p.view.dynamic.empty())
-    not_waiting = waits;
-  else
+  cv::Mat not_waiting;  // every pixel but the non-dynamic ones that wait (written, not aliasing `waits`)
+  if (p.view.dynamic.empty()) {
+    cv::bitwise_not(waits, not_waiting);
+  } else {
     cv::bitwise_and(waits, p.view.dynamic == 0, not_waiting);
-  cv::bitwise_not(not_waiting, not_waiting);
+    cv::bitwise_not(not_waiting, not_waiting);
+  }
   append(local, keyframe_cloud(p.view, not_waiting));
   const std::size_t measured = local.size();
   if (repair) {

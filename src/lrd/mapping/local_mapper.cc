@@ -131,7 +131,10 @@ void LocalMapper::process(std::uint64_t keyframe_id) {
       const auto tb = std::chrono::steady_clock::now();
       // Lock-step runs never abort: the result must not depend on timing.
       const auto ba = optim::local_bundle_adjustment(kf, map_, threaded_ ? &abort_ba_ : nullptr, params_.ba);
-      if (!ba.aborted && ba.odometry_change.metres > 0.05)
+      // Centimetres are BA's daily work; decimetres against a parent are the divergence hunt's
+      // tears (bench/results/divergence.md), logged with the pair.
+      constexpr double kLoggedOdometryChangeM = 0.05;
+      if (!ba.aborted && ba.odometry_change.metres > kLoggedOdometryChangeM)
         spdlog::debug(
             "local BA at keyframe {}: moved keyframe {} by {:.3f} m / {:.1f} deg against keyframe {}",
             kf->id(), ba.odometry_change.keyframe, ba.odometry_change.metres, ba.odometry_change.degrees,
