@@ -116,6 +116,33 @@ def most_torn_pair(log, out, sequence):
             f"{worst[4]:.3f} m when tracked, {worst[5]:.3f} m at the end")
 
 
+def jump_origin(log, out, sequence, jump_at):
+    """With --log-level debug: the two frames of the largest final jump, their reference keyframes
+    and their step as tracked (live) and in truth: a jump tracking made (a relocalization after
+    following a person) or one later corrections made between two keyframes."""
+    with open(os.path.join(sequence, "rgb.txt")) as f:
+        stamps = [float(line.split()[0]) for line in f if not line.startswith("#") and line.strip()]
+    frame = min(range(len(stamps)), key=lambda i: abs(stamps[i] - jump_at))
+    tracked = {}
+    for line in log.splitlines():
+        m = TRACKED.search(line)
+        if m:
+            tracked[int(m.group(1))] = (tuple(float(m.group(i)) for i in (2, 3, 4)), int(m.group(5)))
+    before = max((f for f in tracked if f < frame), default=None)
+    if frame not in tracked or before is None:
+        return ""
+    truth = sorted((float(k), v) for k, v in read_poses(os.path.join(sequence, "groundtruth.txt")).items())
+
+    def true_position(stamp):
+        return min(truth, key=lambda t: abs(t[0] - stamp))[1]
+
+    relocalized = f"frame {frame}: relocalized" in log
+    return (f"    largest jump: frames {before}-{frame}, reference keyframes {tracked[before][1]}-{tracked[frame][1]}: "
+            f"{math.dist(tracked[before][0], tracked[frame][0]):.3f} m live, "
+            f"{math.dist(true_position(stamps[before]), true_position(stamps[frame])):.3f} m in truth"
+            + (" (relocalized there)" if relocalized else ""))
+
+
 def ensure_sequence(binary, cache, preset):
     folder = os.path.join(cache, preset)
     if not os.path.exists(os.path.join(folder, "associations.txt")):
@@ -148,7 +175,7 @@ def main():
     failed = []
     print(f"divergence hunt: {a.runs} threaded runs per preset, mode {a.mode}, {a.load} busy processes")
     print(f"{'preset':<19} {'run':>3} {'ATE cm':>9} {'jump m':>8} {'jump at':>17} {'loops':>5} {'rejected':>8} "
-          f"{'BA not merged':>13} {'lost':>5}" + ("  live step m (frame)" if a.log_level == "debug" else ""))
+          f"{'BA not merged':>13} {'local BA refused':>16} {'lost':>5}" + ("  live step m (frame)" if a.log_level == "debug" else ""))
     try:
         for preset in presets:
             sequence = os.path.join(a.cache, preset)
@@ -170,12 +197,13 @@ def main():
                 jump, jump_at = largest_jump(os.path.join(out, "CameraTrajectory.txt"))
                 print(f"{preset:<19} {run:>3} {100 * ate:>9.2f} {jump:>8.3f} {jump_at:>17.6f} {len(s['loops']):>5} "
                       f"{s.get('rejected_loops', 0):>8} {s.get('implausible_global_bundle_adjustments', 0):>13} "
-                      f"{s['lost']:>5}" + (live_column(r.stdout) if a.log_level == "debug" else ""), flush=True)
+                      f"{s.get('implausible_local_bundle_adjustments', 0):>16} {s['lost']:>5}" + (live_column(r.stdout) if a.log_level == "debug" else ""), flush=True)
                 fallbacks = sum(1 for loop in s["loops"] if loop.get("dry_run_solution"))
                 if fallbacks:  # the solve with the fusion's links tore the odometry (loop_closer.cc)
                     print(f"    loops that took their dry run's solution: {fallbacks}", flush=True)
                 if a.log_level == "debug":
                     print(most_torn_pair(r.stdout, out, sequence), flush=True)
+                    print(jump_origin(r.stdout, out, sequence, jump_at), flush=True)
                 if a.mode == "full" and ate > 0.02:
                     failed.append((preset, run, f"ATE {100 * ate:.2f} cm > 2 cm"))
                 if a.mode != "full" and (jump > 0.5 or ate > 2.0):

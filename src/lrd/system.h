@@ -59,7 +59,8 @@ struct MapStats {
   std::size_t map_points = 0;
   std::size_t culled_keyframes = 0;
   std::size_t bundle_adjustments = 0;
-  std::size_t loops = 0;    // loops closed
+  std::size_t implausible_local_bundle_adjustments = 0;  // solved but refused (optim/local_bundle_adjuster.h)
+  std::size_t loops = 0;                                 // loops closed
   int relocalizations = 0;  // times tracking was lost (or not yet localized in a loaded map) and relocalized
   std::size_t loaded_keyframes = 0;  // keyframes and map points load_map() brought in
   std::size_t loaded_map_points = 0;

@@ -62,6 +62,7 @@ MapStats System::map_stats() const {
   const auto ms = impl_->pipe->mapper.stats();
   m.culled_keyframes = ms.culled_keyframes;
   m.bundle_adjustments = ms.bundle_adjustments;
+  m.implausible_local_bundle_adjustments = ms.implausible_bundle_adjustments;
   if (impl_->pipe->loop_closer) {
     const auto ls = impl_->pipe->loop_closer->stats();
     m.loops = ls.loops.size();

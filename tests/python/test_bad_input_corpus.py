@@ -550,6 +550,7 @@ for key, section, value in [
     ("local_map_radius", "tracking:\n  local_map_radius: {}\n", ".nan"),
     ("max_frames_between_keyframes", "tracking:\n  max_frames_between_keyframes: {}\n", "-5"),
     ("fuse_neighbours", "mapping:\n  fuse_neighbours: {}\n", "-1"),
+    ("ba_max_odometry_change_m", "mapping:\n  ba_max_odometry_change_m: {}\n", ".nan"),
 ]:
     full = section.split(":")[0] + "." + key
     config_case(f"{full}={value}", section.format(value))

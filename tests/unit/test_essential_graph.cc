@@ -7,6 +7,7 @@
 #include <cmath>
 #include <mutex>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "keyframe_graph.h"
@@ -91,6 +92,46 @@ TEST(EssentialGraph, ATornSolutionGivesWayToTheFallback) {
     EXPECT_EQ(spread.at(k->id()).matrix(), spread_before.at(k->id()).matrix()) << k->id();
 }
 
+// Corrections add up: each solution within the limits, several together can still take a pair far
+// from its odometry as tracked. A tracking link keeps that odometry; a solution that takes the pair
+// further than the limits from it is beyond them, one that brings it back or leaves it is not.
+TEST(EssentialGraph, CorrectionsThatAddUpAreMeasuredFromTheTrackedOdometry) {
+  Graph g;
+  std::vector<KeyFrame*> chain;
+  ASSERT_NO_FATAL_FAILURE(make_chain(g, 4, chain));
+  chain[1]->add_tracking_link(chain[2]);  // tracked 0.1 m apart
+  // Earlier corrections moved keyframes 2 and 3 0.2 m along y: the map as it is now.
+  for (std::size_t i = 2; i < 4; ++i)
+    chain[i]->set_pose(chain[i]->T_cw() * Eigen::Isometry3d(Eigen::Translation3d(0.0, -0.2, 0.0)));
+  const lrd::optim::PoseOf before = [](KeyFrame* k) { return k->T_cw(); };
+  const auto moved_y = [&](double dy) -> lrd::optim::PoseOf {
+    return [&, dy](KeyFrame* k) {
+      return k->id() >= chain[2]->id() ? k->T_cw() * Eigen::Isometry3d(Eigen::Translation3d(0.0, -dy, 0.0))
+                                       : k->T_cw();
+    };
+  };
+  // 0.1 m further: one step of 0.1 m, 0.3 m from the tracked odometry.
+  const auto further = lrd::optim::largest_odometry_change(chain, before, moved_y(0.1));
+  EXPECT_NEAR(further.metres, 0.1, 1e-9);
+  EXPECT_NEAR(further.from_tracked_metres, 0.3, 1e-9);
+  EXPECT_EQ(std::minmax(further.from_tracked_keyframe, further.from_tracked_other),
+            std::minmax(chain[1]->id(), chain[2]->id()));
+  EXPECT_FALSE(further.within(0.25, 10.0));
+  EXPECT_NE(further.beyond(0.25, 10.0).find("as tracked"), std::string::npos);
+  // 0.1 m back towards it: mending, within the limits although 0.1 m a step.
+  const auto back = lrd::optim::largest_odometry_change(chain, before, moved_y(-0.1));
+  EXPECT_NEAR(back.metres, 0.1, 1e-9);
+  EXPECT_EQ(back.from_tracked_metres, 0.0);
+  EXPECT_TRUE(back.within(0.25, 10.0));
+  // Left where it is (0.2 m from the tracked odometry, within 0.25 m): within.
+  const auto left = lrd::optim::largest_odometry_change(chain, before, before);
+  EXPECT_TRUE(left.within(0.25, 10.0));
+  EXPECT_TRUE(left.within(0.1, 10.0));  // not taken further: not held against it
+  // A step beyond the limits is named as a step.
+  const auto torn = lrd::optim::largest_odometry_change(chain, before, moved_y(0.4));
+  EXPECT_EQ(torn.beyond(0.25, 10.0).find("move keyframe"), 0u);
+}
+
 // Consecutive frames can be tracked against keyframes far apart in the spanning tree: a solution
 // that bends every edge between them a little moves them apart a lot, and the camera trajectory
 // jumps between those frames. Their tracking link measures it.
@@ -107,8 +148,7 @@ TEST(EssentialGraph, OdometryChangeMeasuresTrackingLinksAcrossTheTree) {
   const auto tree_only = lrd::optim::largest_odometry_change(chain, before, bent);
   EXPECT_NEAR(tree_only.metres, 0.1, 1e-9);
   // Frames tracked against keyframe 0 and then keyframe 5 link them: 0.5 m, named.
-  chain[0]->add_tracking_link(chain[5]->id());
-  chain[5]->add_tracking_link(chain[0]->id());
+  chain[0]->add_tracking_link(chain[5]);
   const auto linked = lrd::optim::largest_odometry_change(chain, before, bent);
   EXPECT_NEAR(linked.metres, 0.5, 1e-9);
   EXPECT_EQ(std::minmax(linked.keyframe, linked.other), std::minmax(chain[0]->id(), chain[5]->id()));
@@ -133,17 +173,23 @@ TEST(EssentialGraph, ARemovedKeyframesTrackingLinksGoToItsParent) {
   kf3->update_connections();
   ASSERT_EQ(kf1->parent(), kf0);
   ASSERT_EQ(kf3->parent(), kf2);
-  for (auto [a, b] : {std::pair{kf1, kf3}, std::pair{kf1, kf0}}) {
-    a->add_tracking_link(b->id());
-    b->add_tracking_link(a->id());
-  }
+  kf1->add_tracking_link(kf3);
+  kf1->add_tracking_link(kf0);
   {
     std::lock_guard lock(g.map.mutex());
     kf1->set_bad();
   }
+  const auto ids = [](const KeyFrame* k) {
+    std::set<std::uint64_t> s;
+    for (const auto& [id, tracked] : k->tracking_links()) s.insert(id);
+    return s;
+  };
   EXPECT_TRUE(kf1->tracking_links().empty());
-  EXPECT_EQ(kf3->tracking_links(), std::set<std::uint64_t>{kf0->id()});
-  EXPECT_EQ(kf0->tracking_links(), std::set<std::uint64_t>{kf3->id()});  // not itself
+  EXPECT_EQ(ids(kf3), std::set<std::uint64_t>{kf0->id()});
+  EXPECT_EQ(ids(kf0), std::set<std::uint64_t>{kf3->id()});  // not itself
+  // The odometry as tracked goes with them, through the removed keyframe: kf0 to kf3 is 0.3 m.
+  EXPECT_NEAR(kf0->tracking_links().at(kf3->id()).translation().x(), 0.3, 1e-9);
+  EXPECT_TRUE(kf3->tracking_links().at(kf0->id()).isApprox(kf0->tracking_links().at(kf3->id()).inverse()));
 }
 
 TEST(EssentialGraph, HasOneEdgePerPairMeasuredWithTheGivenPoses) {

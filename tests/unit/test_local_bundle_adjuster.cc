@@ -214,6 +214,66 @@ TEST(LocalBundleAdjustment, RecoversPosesAndPointsAndRemovesOutliers) {
   }
 }
 
+// A result that changes a pair of keyframes more than the limits allow (issue 22: BA pulling
+// keyframes onto wrongly fused points) solves again with the pair held where it was; beyond
+// max_held_pairs pairs it is refused whole: the change reported, no pose, point or observation
+// touched. Here the limit sits below the drift this problem removes (3-4 cm a keyframe).
+TEST(LocalBundleAdjustment, AResultBeyondTheOdometryLimitsHoldsThePairOrIsRefusedWhole) {
+  Problem p;
+  std::vector<Eigen::Isometry3d> poses_before;
+  for (KeyFrame* kf : p.kfs) poses_before.push_back(kf->T_cw());
+  std::vector<Eigen::Vector3d> points_before;
+  for (MapPoint* mp : p.points) points_before.push_back(mp->position());
+
+  LocalBundleAdjustmentParams params;
+  params.max_odometry_change_m = 0.01;
+  params.max_held_pairs = 0;
+  const auto stats = local_bundle_adjustment(p.kfs[3], p.map, nullptr, params);
+  EXPECT_TRUE(stats.implausible);
+  EXPECT_GT(stats.odometry_change.metres, 0.02);
+  EXPECT_EQ(stats.outliers, 0);
+  for (std::size_t k = 0; k < p.kfs.size(); ++k)
+    EXPECT_EQ(p.kfs[k]->T_cw().matrix(), poses_before[k].matrix()) << "keyframe " << k;
+  for (std::size_t i = 0; i < p.points.size(); ++i) EXPECT_EQ(p.points[i]->position(), points_before[i]);
+  EXPECT_EQ(p.outliers_left(), static_cast<int>(p.outliers.size()));
+
+  // The degrees limit alone is a limit too. (A fresh problem each: one keyframe's local BA marks
+  // its window as done.)
+  Problem by_degrees;
+  params = {};
+  params.max_odometry_change_deg = 0.01;
+  params.max_held_pairs = 0;
+  EXPECT_TRUE(local_bundle_adjustment(by_degrees.kfs[3], by_degrees.map, nullptr, params).implausible);
+  EXPECT_EQ(by_degrees.kfs[3]->T_cw().matrix(), poses_before[3].matrix());
+
+  // Holding pairs: each torn pair's keyframes stay where they were and the rest is solved again,
+  // until the result is within the limits; the points are still refined. (Every pair of this
+  // window is torn at 1 cm: up to three to hold.)
+  Problem held;
+  params = {};
+  params.max_odometry_change_m = 0.01;
+  params.max_held_pairs = 3;
+  const auto h = local_bundle_adjustment(held.kfs[3], held.map, nullptr, params);
+  EXPECT_FALSE(h.implausible);
+  EXPECT_GE(h.held_pairs, 1);
+  EXPECT_TRUE(h.odometry_change.within(0.01, 10.0));
+  int unmoved = 0;
+  for (std::size_t k = 1; k < held.kfs.size(); ++k)
+    unmoved += held.kfs[k]->T_cw().isApprox(poses_before[k], 1e-12);
+  EXPECT_GE(unmoved, 1);
+  int points_moved = 0;
+  for (std::size_t i = 0; i < held.points.size(); ++i)
+    points_moved += !held.points[i]->is_bad() && held.points[i]->position() != points_before[i];
+  EXPECT_GT(points_moved, static_cast<int>(held.points.size()) / 10);  // the rest lost outlier observations
+
+  // The defaults (0.25 m / 10 deg) let the whole drift removal through.
+  Problem by_default;
+  const auto d = local_bundle_adjustment(by_default.kfs[3], by_default.map);
+  EXPECT_FALSE(d.implausible);
+  EXPECT_EQ(d.held_pairs, 0);
+  EXPECT_LT(by_default.translation_error(3), 0.005);
+}
+
 // Depth weighted by the sensor's disparity noise (1/8 px) holds the points on their measured depth;
 // weighted as a 1 px stereo match (ORB-SLAM2) bundle adjustment lets them slide along their rays
 // to absorb keypoint noise (the drift of docs/slam-core.md, "Depth weight").

@@ -33,7 +33,7 @@ void EssentialGraph::add_map_edges(const std::vector<map::KeyFrame*>& keyframes,
     }
     // The camera trajectory passes between tracking-linked keyframes from one frame to the next:
     // a correction must bend the map elsewhere (optim/odometry_change.h checks that it did).
-    for (const std::uint64_t id : k->tracking_links()) {
+    for (const auto& [id, tracked] : k->tracking_links()) {
       const auto it = by_id.find(id);
       if (id < k->id() && it != by_id.end() && !it->second->is_bad())
         add_edge(k, it->second, relative(it->second));

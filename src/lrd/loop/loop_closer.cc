@@ -56,8 +56,7 @@ std::optional<optim::PoseGraphResult> plausible_correction(
       all, [&](map::KeyFrame* k) { return pose_in(corrected, k); }, loop.loop, params.pose_graph_iterations);
   const optim::OdometryChange change =
       optim::largest_odometry_change(all, pre, [&](map::KeyFrame* k) { return result.T_cw.at(k->id()); });
-  if (change.metres <= params.pose_graph_max_edge_change_m &&
-      change.degrees <= params.pose_graph_max_edge_change_deg) {
+  if (change.within(params.pose_graph_max_edge_change_m, params.pose_graph_max_edge_change_deg)) {
     spdlog::debug(
         "loop {}-{}: correction {:.3f} m, dry run moves keyframe {} by {:.3f} m / {:.2f} deg against "
         "keyframe {}",
@@ -66,11 +65,11 @@ std::optional<optim::PoseGraphResult> plausible_correction(
     return result;
   }
   spdlog::warn(
-      "loop {}-{} rejected: its correction ({:.3f} m) would move keyframe {} by {:.3f} m / {:.1f} deg "
-      "against keyframe {}, its parent or tracked beside it (at most {} m / {} deg): the drift is not "
-      "spread along the loop",
-      loop.current->id(), loop.loop->id(), correction_m, change.keyframe, change.metres, change.degrees,
-      change.other, params.pose_graph_max_edge_change_m, params.pose_graph_max_edge_change_deg);
+      "loop {}-{} rejected: its correction ({:.3f} m) would {}, its parent or tracked beside it (at most {} "
+      "m / {} deg): the drift is not spread along the loop",
+      loop.current->id(), loop.loop->id(), correction_m,
+      change.beyond(params.pose_graph_max_edge_change_m, params.pose_graph_max_edge_change_deg),
+      params.pose_graph_max_edge_change_m, params.pose_graph_max_edge_change_deg);
   return std::nullopt;
 }
 }  // namespace
@@ -333,9 +332,10 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
                 kf->id(), loop.loop->id(), change.keyframe, change.metres, change.degrees, change.other);
   if (fallback.taken)
     spdlog::warn(
-        "loop {}-{}: with the fusion's links the correction would move keyframe {} by {:.3f} m / {:.1f} deg "
-        "against keyframe {} (at most {} m / {} deg); the map takes its dry run's solution",
-        kf->id(), loop.loop->id(), change.keyframe, change.metres, change.degrees, change.other,
+        "loop {}-{}: with the fusion's links the correction would {} (at most {} m / {} deg); the map takes "
+        "its dry run's solution",
+        kf->id(), loop.loop->id(),
+        change.beyond(params_.pose_graph_max_edge_change_m, params_.pose_graph_max_edge_change_deg),
         params_.pose_graph_max_edge_change_m, params_.pose_graph_max_edge_change_deg);
   for (map::KeyFrame* k : all) k->set_pose(result.T_cw.at(k->id()));
   // Followers (no edges) keep their place relative to the current keyframe.
@@ -412,16 +412,15 @@ void LoopCloser::run_global_ba(std::uint64_t run) {
   const auto s = optim::global_bundle_adjustment(map_, run, threaded_ ? &abort_global_ba_ : nullptr, gp);
   if (s.implausible)
     spdlog::warn(
-        "global BA after loop at keyframe {} rejected: it would move keyframe {} by {:.3f} m and "
-        "{:.1f} deg against keyframe {}, its parent or tracked beside it (limits {} m, {} deg); the map "
-        "keeps the pose-graph result",
-        run, s.worst_keyframe, s.largest_edge_change_m, s.largest_edge_change_deg, s.worst_other,
-        gp.max_edge_change_m, gp.max_edge_change_deg);
+        "global BA after loop at keyframe {} rejected: it would {}, its parent or tracked beside it (limits "
+        "{} m, {} deg); the map keeps the pose-graph result",
+        run, s.odometry_change.beyond(gp.max_edge_change_m, gp.max_edge_change_deg), gp.max_edge_change_m,
+        gp.max_edge_change_deg);
   else
     spdlog::info(
         "global BA after loop at keyframe {}: {} keyframes, {} points, rms {:.2f} -> {:.2f} px, "
         "keyframes moved against their parents and linked keyframes by up to {:.3f} m{}",
-        run, s.keyframes, s.points, s.initial_rms_px, s.final_rms_px, s.largest_edge_change_m,
+        run, s.keyframes, s.points, s.initial_rms_px, s.final_rms_px, s.odometry_change.metres,
         s.aborted ? " (aborted)" : "");
   const double seconds = seconds_since(t0);
   std::lock_guard lock(stats_mutex_);

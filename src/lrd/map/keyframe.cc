@@ -34,7 +34,14 @@ std::size_t KeyFrame::memory_bytes() const {
          connections_.size() * (sizeof(std::pair<KeyFrame* const, int>) + kNode) +
          ordered_neighbours_.capacity() * sizeof(KeyFrame*) + ordered_weights_.capacity() * sizeof(int) +
          (children_.size() + loop_edges_.size()) * (sizeof(KeyFrame*) + kNode) +
-         tracking_links_.size() * (sizeof(std::uint64_t) + kNode);
+         tracking_links_.size() * (sizeof(std::pair<const std::uint64_t, Eigen::Isometry3d>) + kNode);
+}
+
+void KeyFrame::add_tracking_link(KeyFrame* other) {
+  if (other == this) return;
+  const Eigen::Isometry3d T_this_other = T_cw_ * other->T_wc();
+  tracking_links_.emplace(other->id_, T_this_other);
+  other->tracking_links_.emplace(id_, T_this_other.inverse());
 }
 
 void KeyFrame::erase_map_point(const MapPoint* mp) {
@@ -227,14 +234,16 @@ void KeyFrame::set_bad() {
     parent_->children_.erase(this);
     T_c_parent_ = T_cw_ * parent_->T_wc();
   }
-  // Frames tracked against this keyframe now follow its parent (Map::resolve_pose): so do its links.
-  for (const std::uint64_t id : tracking_links_) {
+  // Frames tracked against this keyframe now follow its parent (Map::resolve_pose): so do its links,
+  // their tracked odometry carried through this keyframe's pose against its parent.
+  for (const auto& [id, T_this_other] : tracking_links_) {
     KeyFrame* other = map_->keyframe(id);
     if (other == nullptr) continue;
     other->tracking_links_.erase(id_);
     if (parent_ == nullptr || other == parent_) continue;
-    other->add_tracking_link(parent_->id_);
-    parent_->add_tracking_link(id);
+    const Eigen::Isometry3d T_parent_other = T_c_parent_.inverse() * T_this_other;
+    parent_->tracking_links_.emplace(id, T_parent_other);
+    other->tracking_links_.emplace(parent_->id_, T_parent_other.inverse());
   }
   tracking_links_.clear();
   bad_ = true;

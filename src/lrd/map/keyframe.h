@@ -92,13 +92,16 @@ class KeyFrame {
   [[nodiscard]] const std::set<KeyFrame*, ById>& loop_edges() const { return loop_edges_; }
   // Tracking links: keyframes that consecutive frames were tracked against, this one and another
   // (the camera trajectory passes from one to the other between two frames). Edges of the loop
-  // correction's essential graph, and what loop closing and global BA check their solutions
-  // against (optim/odometry_change.h). By id; a removed keyframe's links go to its parent. Not
-  // saved in map files.
-  void add_tracking_link(std::uint64_t other) {
-    if (other != id_) tracking_links_.insert(other);
+  // correction's essential graph, and what loop closing, global and local BA check their solutions
+  // against (optim/odometry_change.h). By id, each with the other's pose relative to this one when
+  // the link was made (T_this,other = T_this,w T_w,other: the odometry as tracked, which
+  // corrections must not take the pair far from, one after another). Links both ways; a second
+  // link of a pair keeps the first's pose. A removed keyframe's links go to its parent. Not saved
+  // in map files.
+  void add_tracking_link(KeyFrame* other);
+  [[nodiscard]] const std::map<std::uint64_t, Eigen::Isometry3d>& tracking_links() const {
+    return tracking_links_;
   }
-  [[nodiscard]] const std::set<std::uint64_t>& tracking_links() const { return tracking_links_; }
   // Essential-graph neighbours: parent, children, loop edges and covisibles with weight >= min_weight.
   [[nodiscard]] std::vector<KeyFrame*> essential_neighbours(int min_weight = 100) const;
 
@@ -156,7 +159,7 @@ class KeyFrame {
   KeyFrame* parent_ = nullptr;
   std::set<KeyFrame*, ById> children_;
   std::set<KeyFrame*, ById> loop_edges_;
-  std::set<std::uint64_t> tracking_links_;
+  std::map<std::uint64_t, Eigen::Isometry3d> tracking_links_;
   bool bad_ = false;
   bool not_erase_ = false;
   Eigen::Isometry3d T_c_parent_ = Eigen::Isometry3d::Identity();

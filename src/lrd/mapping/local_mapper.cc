@@ -37,6 +37,10 @@ LocalMapperParams LocalMapperParams::from_config(config::NodeReader r) {
   p.ba.max_local_keyframes = r.get("ba_max_local_keyframes", p.ba.max_local_keyframes);
   r.check(p.ba.max_local_keyframes >= 0, "ba_max_local_keyframes",
           "must be >= 0 (0: every covisible keyframe)");
+  p.ba.max_odometry_change_m = r.get("ba_max_odometry_change_m", p.ba.max_odometry_change_m);
+  r.check(p.ba.max_odometry_change_m > 0.0, "ba_max_odometry_change_m", "must be > 0");
+  p.ba.max_odometry_change_deg = r.get("ba_max_odometry_change_deg", p.ba.max_odometry_change_deg);
+  r.check(p.ba.max_odometry_change_deg > 0.0, "ba_max_odometry_change_deg", "must be > 0");
   p.keyframe_culling = r.get("keyframe_culling", p.keyframe_culling);
   p.redundant_ratio = r.get("redundant_ratio", p.redundant_ratio);
   r.check(p.redundant_ratio > 0.0 && p.redundant_ratio <= 1.0, "redundant_ratio", "must be in (0, 1]");
@@ -132,16 +136,26 @@ void LocalMapper::process(std::uint64_t keyframe_id) {
       // Lock-step runs never abort: the result must not depend on timing.
       const auto ba = optim::local_bundle_adjustment(kf, map_, threaded_ ? &abort_ba_ : nullptr, params_.ba);
       // Centimetres are BA's daily work; decimetres against a parent are the divergence hunt's
-      // tears (bench/results/divergence.md), logged with the pair.
+      // tears (bench/results/divergence.md), logged with the pair, refused beyond the limits.
       constexpr double kLoggedOdometryChangeM = 0.05;
-      if (!ba.aborted && ba.odometry_change.metres > kLoggedOdometryChangeM)
+      const optim::OdometryChange& change = ba.odometry_change;
+      if (ba.implausible)
+        spdlog::warn("local BA at keyframe {} rejected: it would {} (limits {} m / {} deg)", kf->id(),
+                     change.beyond(params_.ba.max_odometry_change_m, params_.ba.max_odometry_change_deg),
+                     params_.ba.max_odometry_change_m, params_.ba.max_odometry_change_deg);
+      else if (ba.held_pairs > 0)
+        spdlog::debug(
+            "local BA at keyframe {}: held {} pair(s) of keyframes where they were to stay within {} m / {} "
+            "deg",
+            kf->id(), ba.held_pairs, params_.ba.max_odometry_change_m, params_.ba.max_odometry_change_deg);
+      else if (!ba.aborted && change.metres > kLoggedOdometryChangeM)
         spdlog::debug(
             "local BA at keyframe {}: moved keyframe {} by {:.3f} m / {:.1f} deg against keyframe {}",
-            kf->id(), ba.odometry_change.keyframe, ba.odometry_change.metres, ba.odometry_change.degrees,
-            ba.odometry_change.other);
+            kf->id(), change.keyframe, change.metres, change.degrees, change.other);
       std::lock_guard lock(stats_mutex_);
       ++stats_.bundle_adjustments;
       if (ba.aborted) ++stats_.aborted_bundle_adjustments;
+      if (ba.implausible) ++stats_.implausible_bundle_adjustments;
       stats_.ba_seconds += seconds_since(tb);
     }
     if (params_.keyframe_culling) cull_keyframes(kf);

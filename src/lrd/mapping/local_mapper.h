@@ -54,6 +54,7 @@ struct LocalMapperStats {
   std::uint64_t triangulated_points = 0;
   std::uint64_t bundle_adjustments = 0;
   std::uint64_t aborted_bundle_adjustments = 0;
+  std::uint64_t implausible_bundle_adjustments = 0;  // solved, refused (optim/local_bundle_adjuster.h)
   double ba_seconds = 0.0;
   double busy_seconds = 0.0;
 };

@@ -86,19 +86,14 @@ GlobalBundleAdjustmentStats global_bundle_adjustment(map::Map& map, std::uint64_
   std::vector<bool> observed(kfs.size(), false);
   for (const Observation& o : obs) observed[o.kf] = true;
   // How far the solve moved each solved keyframe against its solved parent and linked keyframes.
-  const OdometryChange change = largest_odometry_change(
+  stats.odometry_change = largest_odometry_change(
       kfs, [&](map::KeyFrame* kf) { return from_block(initial_poses[index.at(kf)]); },
       [&](map::KeyFrame* kf) { return from_block(poses[index.at(kf)]); },
       [&](const map::KeyFrame* kf) {
         const auto it = index.find(kf);
         return it != index.end() && observed[it->second];
       });
-  stats.largest_edge_change_m = change.metres;
-  stats.largest_edge_change_deg = change.degrees;
-  stats.worst_keyframe = change.keyframe;
-  stats.worst_other = change.other;
-  if (stats.largest_edge_change_m > params.max_edge_change_m ||
-      stats.largest_edge_change_deg > params.max_edge_change_deg) {
+  if (!stats.odometry_change.within(params.max_edge_change_m, params.max_edge_change_deg)) {
     stats.implausible = true;
     return stats;
   }

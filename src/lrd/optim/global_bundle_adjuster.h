@@ -10,6 +10,8 @@
 #include <atomic>
 #include <cstdint>
 
+#include "lrd/optim/odometry_change.h"
+
 namespace lrd::map {
 class Map;
 }
@@ -40,9 +42,7 @@ struct GlobalBundleAdjustmentStats {
   bool aborted = false;      // stopped by `abort` (a new loop): nothing was merged
   bool implausible = false;  // a keyframe moved too far against its parent or a linked one: nothing merged
   // Over the odometry pairs among the solved keyframes (optim/odometry_change.h).
-  double largest_edge_change_m = 0.0;
-  double largest_edge_change_deg = 0.0;
-  std::uint64_t worst_keyframe = 0, worst_other = 0;  // the pair that changed most
+  OdometryChange odometry_change;
 };
 
 // `run` tags the keyframes this run optimizes (distinct per call).

@@ -24,6 +24,14 @@ struct LocalBundleAdjustmentParams {
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
   int max_local_keyframes = 0;  // 0: every covisible keyframe (ORB-SLAM2)
+  // A result that changes a keyframe's pose against its parent or a tracking-linked keyframe by
+  // more (or takes a linked pair further from its tracked odometry, odometry_change.h) is BA
+  // pulling keyframes onto wrongly fused points, not a drift being removed (reliability issue,
+  // item 1; the loop closer's limits): solved again with that pair held, refused (nothing
+  // written) beyond max_held_pairs pairs.
+  double max_odometry_change_m = 0.25;
+  double max_odometry_change_deg = 10.0;
+  int max_held_pairs = 2;
 };
 
 struct LocalBundleAdjustmentStats {
@@ -35,8 +43,11 @@ struct LocalBundleAdjustmentStats {
   double initial_rms_px = 0.0;  // weighted reprojection error before and after
   double final_rms_px = 0.0;
   bool aborted = false;
+  bool implausible = false;  // beyond the odometry change limits: solved, not written
+  int held_pairs = 0;        // pairs held where they were and solved again, to stay within them
   // The result against the poses it replaced: each local keyframe relative to its parent and its
-  // tracking-linked keyframes (odometry_change.h). Local mapping logs it (the divergence hunt).
+  // tracking-linked keyframes (odometry_change.h). Local mapping logs it (the divergence hunt) and
+  // warns when it made the result implausible.
   OdometryChange odometry_change;
 };
 

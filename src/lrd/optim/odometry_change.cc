@@ -1,5 +1,7 @@
 #include "lrd/optim/odometry_change.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
@@ -14,30 +16,54 @@ OdometryChange largest_odometry_change(const std::vector<map::KeyFrame*>& keyfra
   std::unordered_map<std::uint64_t, map::KeyFrame*> by_id;
   for (map::KeyFrame* k : keyframes) by_id.emplace(k->id(), k);
   OdometryChange worst;
-  const auto measure = [&](map::KeyFrame* k, map::KeyFrame* other) {
+  const auto size = [](const Eigen::Isometry3d& T) {
+    return std::pair{T.translation().norm(), Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI};
+  };
+  const auto measure = [&](map::KeyFrame* k, map::KeyFrame* other, const Eigen::Isometry3d* tracked) {
     if (other == nullptr || other->is_bad()) return;
     if (counted && (!counted(k) || !counted(other))) return;
     const Eigen::Isometry3d rel_before = before(k) * before(other).inverse();
     const Eigen::Isometry3d rel_after = after(k) * after(other).inverse();
-    const Eigen::Isometry3d change = rel_before.inverse() * rel_after;
-    const double metres = change.translation().norm();
-    const double degrees = Eigen::AngleAxisd(change.linear()).angle() * 180.0 / M_PI;
+    const auto [metres, degrees] = size(rel_before.inverse() * rel_after);
     if (metres > worst.metres) {
       worst.keyframe = k->id();
       worst.other = other->id();
     }
     worst.metres = std::max(worst.metres, metres);
     worst.degrees = std::max(worst.degrees, degrees);
+    if (tracked == nullptr) return;
+    // Further from the tracked odometry than before: by a millimetre or a twentieth of a degree
+    // (a solver's noise on a pair it leaves alone is not a step away).
+    const auto [was_m, was_deg] = size(tracked->inverse() * rel_before);
+    const auto [now_m, now_deg] = size(tracked->inverse() * rel_after);
+    if (now_m <= was_m + 1e-3 && now_deg <= was_deg + 0.05) return;
+    if (now_m > worst.from_tracked_metres) {
+      worst.from_tracked_keyframe = k->id();
+      worst.from_tracked_other = other->id();
+    }
+    worst.from_tracked_metres = std::max(worst.from_tracked_metres, now_m);
+    worst.from_tracked_degrees = std::max(worst.from_tracked_degrees, now_deg);
   };
   for (map::KeyFrame* k : keyframes) {
     if (k->is_bad()) continue;
-    measure(k, k->parent());
-    for (const std::uint64_t id : k->tracking_links()) {
+    measure(k, k->parent(), nullptr);
+    for (const auto& [id, tracked] : k->tracking_links()) {
       const auto it = by_id.find(id);
-      if (id > k->id() && it != by_id.end()) measure(k, it->second);  // each pair once
+      if (id > k->id() && it != by_id.end()) measure(k, it->second, &tracked);  // each pair once
     }
   }
   return worst;
+}
+
+std::string OdometryChange::beyond(double max_metres, double max_degrees) const {
+  if (metres > max_metres || degrees > max_degrees)
+    return fmt::format("move keyframe {} by {:.3f} m / {:.1f} deg against keyframe {}", keyframe, metres,
+                       degrees, other);
+  return fmt::format(
+      "take keyframe {} {:.3f} m / {:.1f} deg from its odometry with keyframe {} as tracked, corrections "
+      "added "
+      "up",
+      from_tracked_keyframe, from_tracked_metres, from_tracked_degrees, from_tracked_other);
 }
 
 Fallback fall_back_if_torn(const std::vector<map::KeyFrame*>& keyframes, const PoseOf& before,
@@ -46,7 +72,7 @@ Fallback fall_back_if_torn(const std::vector<map::KeyFrame*>& keyframes, const P
   Fallback f;
   f.change =
       largest_odometry_change(keyframes, before, [&](map::KeyFrame* k) { return solution.at(k->id()); });
-  if (f.change.metres <= max_metres && f.change.degrees <= max_degrees) return f;
+  if (f.change.within(max_metres, max_degrees)) return f;
   f.taken = true;
   for (auto& [id, T_cw] : solution)
     if (const auto it = fallback.find(id); it != fallback.end()) T_cw = it->second;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <string>
 #include <vector>
 
 namespace lrd::map {
@@ -26,6 +27,22 @@ struct OdometryChange {
   double degrees = 0.0;
   std::uint64_t keyframe = 0;  // the pair whose relative position changed most: this keyframe
   std::uint64_t other = 0;     // ... and its parent or linked keyframe
+  // Corrections add up: of the tracking-linked pairs the solution takes further from their odometry
+  // as tracked (KeyFrame::tracking_links) than they were, how far the furthest ends up. A pair
+  // brought back towards it is never held against a solution (that mends a tear).
+  double from_tracked_metres = 0.0;
+  double from_tracked_degrees = 0.0;
+  std::uint64_t from_tracked_keyframe = 0;
+  std::uint64_t from_tracked_other = 0;
+
+  // Both measures within the limits.
+  [[nodiscard]] bool within(double max_metres, double max_degrees) const {
+    return metres <= max_metres && degrees <= max_degrees && from_tracked_metres <= max_metres &&
+           from_tracked_degrees <= max_degrees;
+  }
+  // For a warning: what went beyond `within`'s limits ("would ..." follows it), e.g. "move
+  // keyframe 5 by 0.300 m / 4.0 deg against keyframe 4".
+  [[nodiscard]] std::string beyond(double max_metres, double max_degrees) const;
 };
 
 // Over the pairs among `keyframes` (bad ones skipped; with `counted`, only pairs of which it

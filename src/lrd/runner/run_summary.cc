@@ -119,6 +119,7 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       {"map_points", r.map.map_points},
       {"culled_keyframes", r.map.culled_keyframes},
       {"bundle_adjustments", r.map.bundle_adjustments},
+      {"implausible_local_bundle_adjustments", r.map.implausible_local_bundle_adjustments},
       {"relocalizations", r.map.relocalizations},
       {"loop_closing", r.loop_closing},
       {"vocabulary", r.vocabulary},

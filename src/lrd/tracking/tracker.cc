@@ -282,8 +282,7 @@ void Tracker::link_references(std::optional<std::uint64_t> previous, map::KeyFra
   if (!previous || *previous == current->id()) return;
   map::KeyFrame* before = map_.keyframe(*previous);
   if (before == nullptr || before->is_bad()) return;
-  before->add_tracking_link(current->id());
-  current->add_tracking_link(before->id());
+  before->add_tracking_link(current);
 }
 
 void Tracker::update_last_frame() {
