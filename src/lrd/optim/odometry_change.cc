@@ -60,10 +60,9 @@ std::string OdometryChange::beyond(double max_metres, double max_degrees) const 
     return fmt::format("move keyframe {} by {:.3f} m / {:.1f} deg against keyframe {}", keyframe, metres,
                        degrees, other);
   return fmt::format(
-      "take keyframe {} {:.3f} m / {:.1f} deg from its odometry with keyframe {} as tracked, corrections "
-      "added "
-      "up",
-      from_tracked_keyframe, from_tracked_metres, from_tracked_degrees, from_tracked_other);
+      "take keyframe {} {:.3f} m / {:.1f} deg from its odometry with keyframe {} as tracked, {}",
+      from_tracked_keyframe, from_tracked_metres, from_tracked_degrees, from_tracked_other,
+      "corrections added up");
 }
 
 Fallback fall_back_if_torn(const std::vector<map::KeyFrame*>& keyframes, const PoseOf& before,
