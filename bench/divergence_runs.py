@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Divergence hunt (reliability issue, item 1): many threaded `lrdslam run`s of the walking presets
 under CPU load, printing per run the ATE, the largest jump between consecutive frames, and the loops
-accepted and rejected.
+accepted and rejected, the frames lost and those lost for moving faster than a camera does
+(tracking.max_camera_speed: tracking followed a person).
 
     bench/divergence_runs.py [--presets walking_xyz,walking_static,walking_rpy,walking_halfsphere]
                              [--runs 20] [--mode static] [--load 2] [--cache DIR] [--out DIR]
@@ -175,7 +176,7 @@ def main():
     failed = []
     print(f"divergence hunt: {a.runs} threaded runs per preset, mode {a.mode}, {a.load} busy processes")
     print(f"{'preset':<19} {'run':>3} {'ATE cm':>9} {'jump m':>8} {'jump at':>17} {'loops':>5} {'rejected':>8} "
-          f"{'BA not merged':>13} {'local BA refused':>16} {'lost':>5}" + ("  live step m (frame)" if a.log_level == "debug" else ""))
+          f"{'BA not merged':>13} {'local BA refused':>16} {'lost':>5} {'too fast':>8}" + ("  live step m (frame)" if a.log_level == "debug" else ""))
     try:
         for preset in presets:
             sequence = os.path.join(a.cache, preset)
@@ -197,7 +198,8 @@ def main():
                 jump, jump_at = largest_jump(os.path.join(out, "CameraTrajectory.txt"))
                 print(f"{preset:<19} {run:>3} {100 * ate:>9.2f} {jump:>8.3f} {jump_at:>17.6f} {len(s['loops']):>5} "
                       f"{s.get('rejected_loops', 0):>8} {s.get('implausible_global_bundle_adjustments', 0):>13} "
-                      f"{s.get('implausible_local_bundle_adjustments', 0):>16} {s['lost']:>5}" + (live_column(r.stdout) if a.log_level == "debug" else ""), flush=True)
+                      f"{s.get('implausible_local_bundle_adjustments', 0):>16} {s['lost']:>5} "
+                      f"{s.get('implausible_camera_motions', 0):>8}" + (live_column(r.stdout) if a.log_level == "debug" else ""), flush=True)
                 fallbacks = sum(1 for loop in s["loops"] if loop.get("dry_run_solution"))
                 if fallbacks:  # the solve with the fusion's links tore the odometry (loop_closer.cc)
                     print(f"    loops that took their dry run's solution: {fallbacks}", flush=True)

@@ -73,6 +73,7 @@ MapStats System::map_stats() const {
   {
     std::lock_guard lock(impl_->pipe->map.mutex());
     m.relocalizations = impl_->pipe->tracker.relocalizations();
+    m.implausible_camera_motions = impl_->pipe->tracker.implausible_motions();
   }
   m.loaded_keyframes = impl_->loaded_keyframes;
   m.loaded_map_points = impl_->loaded_map_points;

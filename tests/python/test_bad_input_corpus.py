@@ -551,6 +551,7 @@ for key, section, value in [
     ("max_frames_between_keyframes", "tracking:\n  max_frames_between_keyframes: {}\n", "-5"),
     ("fuse_neighbours", "mapping:\n  fuse_neighbours: {}\n", "-1"),
     ("ba_max_odometry_change_m", "mapping:\n  ba_max_odometry_change_m: {}\n", ".nan"),
+    ("max_camera_speed", "tracking:\n  max_camera_speed: {}\n", ".nan"),
 ]:
     full = section.split(":")[0] + "." + key
     config_case(f"{full}={value}", section.format(value))

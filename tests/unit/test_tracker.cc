@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "lrd/map/keyframe.h"
 #include "lrd/map/keyframe_database.h"
@@ -219,6 +220,63 @@ TEST(Tracker, LossIsAStateAndTrackingResumesWhenTheViewComesBack) {
   EXPECT_EQ(rig.tracker.relocalizations(), 1);
   EXPECT_LT(translation_error(*outcome.T_cw, back), 0.01);
   EXPECT_LT(rotation_error_deg(*outcome.T_cw, back), 0.5);
+}
+
+struct SlidingFrame {
+  lrd::tracking::TrackOutcome outcome;
+  Eigen::Isometry3d truth;
+};
+
+// Tracks a camera that creeps (5 mm a frame, 0.05 m/s: frames are 0.1 s apart here), then slides
+// at 0.5 m/s; returns the sliding frames.
+std::vector<SlidingFrame> creep_then_slide(double max_camera_speed, int& implausible) {
+  lrd::tracking::TrackerParams params;
+  params.max_camera_speed = max_camera_speed;
+  Rig rig(params);
+  lrd::map::KeyFrameDatabase database;
+  const auto vocabulary = lrd::place::Vocabulary::load(lrd::util::find_project_file("vocab/orb_vocab.lrdv"));
+  rig.tracker.set_place_recognition(&vocabulary, &database);
+  rig.mapper.set_place_recognition(&vocabulary, &database);
+  for (int k = 0; k < 10; ++k) EXPECT_EQ(rig.track(pose(0, 0, 0, -0.005 * k, 0, 0)).state, TrackingState::Ok);
+  EXPECT_EQ(rig.tracker.implausible_motions(), 0);
+  std::vector<SlidingFrame> sliding;
+  for (int k = 1; k <= 8; ++k) {
+    const Eigen::Isometry3d truth = pose(0, 0, 0, -0.045 - 0.05 * k, 0, 0);
+    sliding.push_back({rig.track(truth), truth});
+  }
+  implausible = rig.tracker.implausible_motions();
+  return sliding;
+}
+
+void expect_placed(const SlidingFrame& frame, std::size_t k) {
+  ASSERT_EQ(frame.outcome.state, TrackingState::Ok) << "sliding frame " << k + 1;
+  ASSERT_TRUE(frame.outcome.T_cw.has_value());
+  EXPECT_LT(translation_error(*frame.outcome.T_cw, frame.truth), 0.01) << "sliding frame " << k + 1;
+}
+
+TEST(Tracker, MovingFasterThanTheCameraCanIsALossAndPlaceRecognitionPlacesItAgain) {
+  // Issue 22: tracking that follows a person walking past moves the camera at their pace; beyond
+  // tracking.max_camera_speed (over 0.2 s) the frame is lost, not placed, and the next one is
+  // placed by place recognition, never from the pose that ran away.
+  int implausible = 0;
+  const auto limited = creep_then_slide(0.3, implausible);
+  // Sliding frame 1 averages 0.275 m/s with the creep before it; frame 2, 0.5 m/s. After a
+  // relocalization the stride starts again: every other frame is lost.
+  for (std::size_t k = 0; k < limited.size(); ++k) {
+    if (k % 2 == 0) {
+      expect_placed(limited[k], k);
+      EXPECT_EQ(limited[k].outcome.relocalized, k > 0) << "sliding frame " << k + 1;
+    } else {
+      EXPECT_EQ(limited[k].outcome.state, TrackingState::Lost) << "sliding frame " << k + 1;
+      EXPECT_FALSE(limited[k].outcome.T_cw.has_value());
+      EXPECT_EQ(limited[k].outcome.new_keyframe, nullptr);
+    }
+  }
+  EXPECT_EQ(implausible, 4);
+
+  const auto unlimited = creep_then_slide(0.0, implausible);
+  for (std::size_t k = 0; k < unlimited.size(); ++k) expect_placed(unlimited[k], k);
+  EXPECT_EQ(implausible, 0);
 }
 
 // A check that removes every keypoint in the left third of the image, as a moving person would.

@@ -121,6 +121,7 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       {"bundle_adjustments", r.map.bundle_adjustments},
       {"implausible_local_bundle_adjustments", r.map.implausible_local_bundle_adjustments},
       {"relocalizations", r.map.relocalizations},
+      {"implausible_camera_motions", r.map.implausible_camera_motions},
       {"loop_closing", r.loop_closing},
       {"vocabulary", r.vocabulary},
       {"global_bundle_adjustments", r.map.global_bundle_adjustments},

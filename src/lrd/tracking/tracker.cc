@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <string>
 
 #include "lrd/geometry/se3.h"
 #include "lrd/map/keyframe.h"
@@ -14,14 +15,15 @@
 #include "lrd/map/map_point.h"
 #include "lrd/mapping/local_mapper.h"
 #include "lrd/match/frustum.h"
+#include "lrd/tracking/camera_stride.h"
 #include "lrd/tracking/rolling_shutter.h"
 
 namespace lrd::tracking {
 
 namespace {
-// Drops the matches the pose optimization rejected (they are not searched again in this frame)
-// and counts the map points left that keyframes observe.
-int discard_outliers(data::Frame& frame) {
+// Drops the matches the pose optimization rejected (they are not searched again in this search
+// pass, `tag`) and counts the map points left that keyframes observe.
+int discard_outliers(data::Frame& frame, std::uint64_t tag) {
   int in_map = 0;
   for (std::size_t i = 0; i < frame.size(); ++i) {
     map::MapPoint* mp = frame.map_points[i];
@@ -30,7 +32,7 @@ int discard_outliers(data::Frame& frame) {
       frame.map_points[i] = nullptr;
       frame.outliers[i] = false;
       mp->track.in_view = false;
-      mp->track.last_frame_seen = frame.id();
+      mp->track.last_frame_seen = tag;
     } else if (mp->num_observations() > 0) {
       ++in_map;
     }
@@ -72,6 +74,9 @@ TrackerParams TrackerParams::from_config(config::NodeReader r) {
   p.discount_hidden_points = r.get("discount_hidden_points", p.discount_hidden_points);
   p.min_relocalization_inliers = r.get("min_relocalization_inliers", p.min_relocalization_inliers);
   r.check(p.min_relocalization_inliers >= 6, "min_relocalization_inliers", "must be >= 6");
+  p.max_camera_speed = r.get("max_camera_speed", p.max_camera_speed);
+  r.check(p.max_camera_speed >= 0 && p.max_camera_speed <= 1000, "max_camera_speed",
+          "must be in [0, 1000] (0: no limit)");
   r.finish();
   return p;
 }
@@ -99,7 +104,7 @@ TrackOutcome Tracker::track(data::Frame& frame) {
     state_ = ok ? TrackingState::Ok : TrackingState::Lost;
     if (ok) {
       // The first frame placed in a loaded map has no last frame to measure a velocity from.
-      if (last_frame_)
+      if (last_frame_ && !restarted_motion_)
         update_velocity(frame);
       else
         velocity_.reset();
@@ -141,6 +146,8 @@ bool Tracker::track_frame(data::Frame& frame, TrackOutcome& outcome) {
     for (auto& mp : last_frame_->map_points)
       while (mp != nullptr && mp->replaced_by() != nullptr) mp = mp->replaced_by();
   update_last_frame();
+  ++search_pass_;
+  restarted_motion_ = false;
   bool ok = false;
   if (state_ == TrackingState::NotLocalized) {
     // A loaded map and no frame placed in it yet: no last pose to fall back on, only place
@@ -159,9 +166,11 @@ bool Tracker::track_frame(data::Frame& frame, TrackOutcome& outcome) {
     if (!ok) ok = track_reference_keyframe(frame);
   } else {
     // Lost: relocalize by place recognition; failing that (or without a vocabulary), try the
-    // last reference keyframe from the last known pose.
+    // last reference keyframe from the last known pose, unless that pose was lost for moving
+    // faster than a camera does (it followed something else).
     outcome.relocalized = relocalize(frame);
-    ok = outcome.relocalized || track_reference_keyframe(frame);
+    const bool may_trust_last_pose = !last_pose_distrusted_ || vocabulary_ == nullptr;
+    ok = outcome.relocalized || (may_trust_last_pose && track_reference_keyframe(frame));
     if (ok) {
       recovered_ = true;
       recovered_frame_id_ = frame.id();
@@ -175,6 +184,8 @@ bool Tracker::track_frame(data::Frame& frame, TrackOutcome& outcome) {
     outcome.geometry = moving_point_check_->remove_moving_points(frame, nearby);
   }
   if (ok) ok = track_local_map(frame);
+  if (ok) ok = plausible_motion(frame);
+  if (ok) last_pose_distrusted_ = false;
   outcome.relocalized = outcome.relocalized && ok;
   if (outcome.relocalized) ++relocalizations_;
   return ok;
@@ -190,7 +201,7 @@ void Tracker::record(const data::Frame& frame) {
   if (state_ == TrackingState::Ok && frame.has_pose() && reference_kf_ != nullptr) {
     rec.reference = reference_kf_->id();
     previous_reference_ = rec.reference;
-    link_references(previous, reference_kf_);
+    if (!restarted_motion_) link_references(previous, reference_kf_);
     rec.T_c_ref = frame.T_cw() * reference_kf_->T_wc();
     last_frame_reference_ = reference_kf_->id();
     last_T_c_ref_ = rec.T_c_ref;
@@ -239,6 +250,50 @@ void Tracker::update_velocity(const data::Frame& frame) {
   velocity_ = steps == 1 ? motion : geometry::orthonormalized(geometry::se3_power(motion, 1.0 / steps));
   const double dt = frame.timestamp() - last_frame_->timestamp();
   if (steps == 1 && dt > 0.0) frame_period_ = dt;
+}
+
+bool Tracker::plausible_motion(data::Frame& frame) {
+  // Six frames at 30 Hz: long enough to average jitter out; at least three (stamps are rounded).
+  constexpr double kWindowSeconds = 0.2, kMinSeconds = 0.09;
+  if (params_.max_camera_speed <= 0.0) return true;
+  const auto stride = recent_stride(records_, map_, frame.timestamp(), frame.T_wc().translation(),
+                                    kWindowSeconds, kMinSeconds);
+  if (!stride || stride->speed() <= params_.max_camera_speed) return true;
+  ++implausible_motions_;
+  const std::string what = fmt::format(
+      "frame {}: tracking moved the camera {:.2f} m in {:.2f} s ({:.1f} m/s, over tracking.max_camera_speed "
+      "{:.2f}): it followed something that moves;",
+      frame.id(), stride->metres, stride->seconds, stride->speed(), params_.max_camera_speed);
+  // Where the stride began the camera was still on the map, and a camera keeping to its speed
+  // limit is near there: tracked again from that pose, the frame finds the map that stood still.
+  const FrameRecord from = *stride->from;
+  if (track_again_from(frame, from)) {
+    const double metres = (frame.T_wc().translation() - stride->from_t_wc).norm();
+    if (metres <= params_.max_camera_speed * (frame.timestamp() - from.timestamp)) {
+      spdlog::info("{} tracked again from frame {}'s pose, {:.2f} m from it", what, from.frame_id, metres);
+      return true;
+    }
+  }
+  last_pose_distrusted_ = true;
+  spdlog::info("{} lost, relocalizing", what);
+  return false;
+}
+
+bool Tracker::track_again_from(data::Frame& frame, const FrameRecord& from) {
+  map::KeyFrame* kf = map_.nearest_active_keyframe(*from.reference);
+  if (kf == nullptr) return false;
+  ++search_pass_;
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  std::fill(frame.outliers.begin(), frame.outliers.end(), false);
+  if (reference_matcher_.search_by_descriptor(*kf, frame) < params_.min_reference_matches) return false;
+  frame.set_pose(map_.resolve_pose(*from.reference, from.T_c_ref));
+  optimize_pose(frame);
+  if (discard_outliers(frame, search_pass_) < params_.min_pose_inliers) return false;
+  reference_kf_ = kf;
+  if (!track_local_map(frame)) return false;
+  // The frames since `from` followed something else: no velocity from them, no tracking link.
+  restarted_motion_ = true;
+  return true;
 }
 
 bool Tracker::recently_recovered(const data::Frame& frame) const {
@@ -335,7 +390,7 @@ bool Tracker::track_reference_keyframe(data::Frame& frame) {
   if (matches < params_.min_reference_matches) return false;
   frame.set_pose(last_frame_->T_cw());
   optimize_pose(frame);
-  return discard_outliers(frame) >= params_.min_pose_inliers;
+  return discard_outliers(frame, search_pass_) >= params_.min_pose_inliers;
 }
 
 bool Tracker::track_with_motion_model(data::Frame& frame) {
@@ -350,12 +405,12 @@ bool Tracker::track_with_motion_model(data::Frame& frame) {
   spdlog::debug("frame {}: motion model {} matches", frame.id(), matches);
   if (matches < params_.min_motion_matches) return false;
   optimize_pose(frame);
-  return discard_outliers(frame) >= params_.min_pose_inliers;
+  return discard_outliers(frame, search_pass_) >= params_.min_pose_inliers;
 }
 
 bool Tracker::track_local_map(data::Frame& frame) {
   update_local_keyframes(frame);
-  update_local_points(frame);
+  update_local_points();
   const int found = search_local_points(frame);
   optimize_pose(frame);
   inliers_ = 0;
@@ -384,7 +439,7 @@ void Tracker::update_local_keyframes(data::Frame& frame) {
     for (const auto& [kf, idx] : mp->observations()) ++counter[kf];
   }
   if (counter.empty()) return;
-  const std::uint64_t tag = frame.id();
+  const std::uint64_t tag = search_pass_;
   const auto max_kfs = static_cast<std::size_t>(params_.max_local_keyframes);
   std::vector<std::pair<map::KeyFrame*, int>> sharing;
   for (const auto& [kf, n] : counter)
@@ -429,9 +484,9 @@ void Tracker::update_local_keyframes(data::Frame& frame) {
   if (best != nullptr) reference_kf_ = best;
 }
 
-void Tracker::update_local_points(const data::Frame& frame) {
+void Tracker::update_local_points() {
   local_points_.clear();
-  const std::uint64_t tag = frame.id();
+  const std::uint64_t tag = search_pass_;
   for (map::KeyFrame* kf : local_keyframes_) {
     for (map::MapPoint* mp : kf->map_points()) {
       if (mp == nullptr || mp->is_bad() || mp->track.local_for_frame == tag) continue;
@@ -442,7 +497,7 @@ void Tracker::update_local_points(const data::Frame& frame) {
 }
 
 int Tracker::search_local_points(data::Frame& frame) {
-  const std::uint64_t tag = frame.id();
+  const std::uint64_t tag = search_pass_;
   for (std::size_t i = 0; i < frame.size(); ++i) {
     map::MapPoint* mp = frame.map_points[i];
     if (mp == nullptr) continue;

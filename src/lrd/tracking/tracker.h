@@ -14,6 +14,7 @@
 #include "lrd/dynamic/moving_point_check.h"
 #include "lrd/map/reclamation.h"
 #include "lrd/match/orb_matcher.h"
+#include "lrd/tracking/frame_record.h"
 #include "lrd/tracking/keyframe_inserter.h"
 #include "lrd/tracking/tracker_params.h"
 #include "lrd/tracking/tracking_state.h"
@@ -32,17 +33,6 @@ class Vocabulary;
 }
 
 namespace lrd::tracking {
-
-// One tracked (or lost) frame: its pose relative to the reference keyframe.
-struct FrameRecord {
-  std::uint64_t frame_id = 0;
-  double timestamp = 0.0;
-  TrackingState state = TrackingState::NotInitialized;
-  // The reference keyframe's id (it may be culled and freed since: Map::resolve_pose follows it).
-  std::optional<std::uint64_t> reference;
-  Eigen::Isometry3d T_c_ref = Eigen::Isometry3d::Identity();
-  int inliers = 0;
-};
 
 // Everything tracking did with one frame: callers never read the tracker's internals to learn it.
 struct TrackOutcome {
@@ -87,6 +77,9 @@ class Tracker {
   void set_localization_only(bool on) { localization_only_ = on; }
   // Frames relocalized so far.
   [[nodiscard]] int relocalizations() const { return relocalizations_; }
+  // Frames tracking moved faster than `tracking.max_camera_speed` (camera_stride.h): tracked
+  // again from where the stride began, or lost.
+  [[nodiscard]] int implausible_motions() const { return implausible_motions_; }
 
   // World-to-camera pose of the next frame, taken at `timestamp`, by the constant-velocity model
   // (empty when not tracking). Map mutex not needed: it reads the tracker's own state only; call
@@ -107,7 +100,7 @@ class Tracker {
   bool track_with_motion_model(data::Frame& frame);
   bool track_local_map(data::Frame& frame);
   void update_local_keyframes(data::Frame& frame);
-  void update_local_points(const data::Frame& frame);
+  void update_local_points();
   int search_local_points(data::Frame& frame);
   int optimize_pose(data::Frame& frame);
   // Debug log: the frame's live pose and its step from the last frame (as its keyframe stands now).
@@ -120,6 +113,10 @@ class Tracker {
   // map points, then tells the map's reclamation so (map mutex held).
   void let_go_of_removed_objects();
   [[nodiscard]] bool recently_recovered(const data::Frame& frame) const;
+  // Whether the camera's stride up to this frame is one it can make (camera_stride.h); when not,
+  // the frame is tracked again from where the stride began, and kept if that makes it one.
+  [[nodiscard]] bool plausible_motion(data::Frame& frame);
+  bool track_again_from(data::Frame& frame, const FrameRecord& from);
   // Camera frames from the last tracked frame to one taken at `timestamp`: more than one where
   // frames were dropped (a live node behind the camera) or are missing from a sequence.
   [[nodiscard]] int frame_steps(double timestamp) const;
@@ -154,6 +151,14 @@ class Tracker {
   const place::Vocabulary* vocabulary_ = nullptr;
   map::KeyFrameDatabase* database_ = nullptr;
   int relocalizations_ = 0;
+  int implausible_motions_ = 0;
+  // Tags map points and keyframes met by one search of the map (a frame may be searched twice).
+  std::uint64_t search_pass_ = 0;
+  // This frame was tracked again from an earlier pose: no velocity or tracking link from the last.
+  bool restarted_motion_ = false;
+  // Lost for moving too fast: the last pose followed something else, only place recognition
+  // may place the camera again (the reference keyframe is tried from that pose).
+  bool last_pose_distrusted_ = false;
   bool localization_only_ = false;
 };
 

@@ -28,6 +28,11 @@ struct TrackerParams {
   // "Keyframes with people in view"). false: every point counts, as ORB-SLAM2.
   bool discount_hidden_points = true;
   int min_relocalization_inliers = 20;  // after motion-only BA on the PnP inliers
+  // Tracking that moves the camera faster than this (m/s, over the last 0.2 s) has followed
+  // something that moves, a person walking past, not the camera: the frame is tracked again from
+  // where that stride began, or else lost and placed again by place recognition (camera_stride.h).
+  // A hand-held camera or an indoor robot; raise it for faster platforms. 0: no limit.
+  double max_camera_speed = 1.5;
   optim::PoseOptimizerParams pose;
 
   // Reads the `tracking` section of the config (and finishes it).
