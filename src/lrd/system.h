@@ -62,8 +62,8 @@ struct MapStats {
   std::size_t implausible_local_bundle_adjustments = 0;  // solved but refused (optim/local_bundle_adjuster.h)
   std::size_t loops = 0;                                 // loops closed
   int relocalizations = 0;  // times tracking was lost (or not yet localized in a loaded map) and relocalized
-  // Frames tracking moved faster than tracking.max_camera_speed: it followed a person; tracked
-  // again from where that began, or lost (tracking/camera_stride.h).
+  // Frames tracking moved faster than tracking.max_camera_speed (it followed a person), tracked
+  // again from where that began or not (tracking/camera_stride.h).
   int implausible_camera_motions = 0;
   std::size_t loaded_keyframes = 0;  // keyframes and map points load_map() brought in
   std::size_t loaded_map_points = 0;

@@ -233,10 +233,6 @@ std::vector<SlidingFrame> creep_then_slide(double max_camera_speed, int& implaus
   lrd::tracking::TrackerParams params;
   params.max_camera_speed = max_camera_speed;
   Rig rig(params);
-  lrd::map::KeyFrameDatabase database;
-  const auto vocabulary = lrd::place::Vocabulary::load(lrd::util::find_project_file("vocab/orb_vocab.lrdv"));
-  rig.tracker.set_place_recognition(&vocabulary, &database);
-  rig.mapper.set_place_recognition(&vocabulary, &database);
   for (int k = 0; k < 10; ++k) EXPECT_EQ(rig.track(pose(0, 0, 0, -0.005 * k, 0, 0)).state, TrackingState::Ok);
   EXPECT_EQ(rig.tracker.implausible_motions(), 0);
   std::vector<SlidingFrame> sliding;
@@ -254,25 +250,19 @@ void expect_placed(const SlidingFrame& frame, std::size_t k) {
   EXPECT_LT(translation_error(*frame.outcome.T_cw, frame.truth), 0.01) << "sliding frame " << k + 1;
 }
 
-TEST(Tracker, MovingFasterThanTheCameraCanIsALossAndPlaceRecognitionPlacesItAgain) {
-  // Issue 22: tracking that follows a person walking past moves the camera at their pace; beyond
-  // tracking.max_camera_speed (over 0.2 s) the frame is lost, not placed, and the next one is
-  // placed by place recognition, never from the pose that ran away.
+TEST(Tracker, ACameraThatTrulyMovesFasterThanItsSpeedLimitStaysTracked) {
+  // Issue 22: over tracking.max_camera_speed (over 0.2 s) the frame is tracked again from where
+  // the stride began (tracking that followed a person finds the still map there:
+  // tests/python/test_cli_camera_speed.py); a camera that did move that fast is found where it
+  // is again, and the frame is kept as first tracked, neither lost nor pulled back.
   int implausible = 0;
   const auto limited = creep_then_slide(0.3, implausible);
-  // Sliding frame 1 averages 0.275 m/s with the creep before it; frame 2, 0.5 m/s. After a
-  // relocalization the stride starts again: every other frame is lost.
   for (std::size_t k = 0; k < limited.size(); ++k) {
-    if (k % 2 == 0) {
-      expect_placed(limited[k], k);
-      EXPECT_EQ(limited[k].outcome.relocalized, k > 0) << "sliding frame " << k + 1;
-    } else {
-      EXPECT_EQ(limited[k].outcome.state, TrackingState::Lost) << "sliding frame " << k + 1;
-      EXPECT_FALSE(limited[k].outcome.T_cw.has_value());
-      EXPECT_EQ(limited[k].outcome.new_keyframe, nullptr);
-    }
+    expect_placed(limited[k], k);
+    EXPECT_FALSE(limited[k].outcome.relocalized);
   }
-  EXPECT_EQ(implausible, 4);
+  // Sliding frame 1 averages 0.275 m/s with the creep before it; from frame 2 on, 0.5 m/s.
+  EXPECT_EQ(implausible, static_cast<int>(limited.size()) - 1);
 
   const auto unlimited = creep_then_slide(0.0, implausible);
   for (std::size_t k = 0; k < unlimited.size(); ++k) expect_placed(unlimited[k], k);

@@ -8,6 +8,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <utility>
 
 #include "lrd/geometry/se3.h"
 #include "lrd/map/keyframe.h"
@@ -166,11 +167,9 @@ bool Tracker::track_frame(data::Frame& frame, TrackOutcome& outcome) {
     if (!ok) ok = track_reference_keyframe(frame);
   } else {
     // Lost: relocalize by place recognition; failing that (or without a vocabulary), try the
-    // last reference keyframe from the last known pose, unless that pose was lost for moving
-    // faster than a camera does (it followed something else).
+    // last reference keyframe from the last known pose.
     outcome.relocalized = relocalize(frame);
-    const bool may_trust_last_pose = !last_pose_distrusted_ || vocabulary_ == nullptr;
-    ok = outcome.relocalized || (may_trust_last_pose && track_reference_keyframe(frame));
+    ok = outcome.relocalized || track_reference_keyframe(frame);
     if (ok) {
       recovered_ = true;
       recovered_frame_id_ = frame.id();
@@ -184,8 +183,7 @@ bool Tracker::track_frame(data::Frame& frame, TrackOutcome& outcome) {
     outcome.geometry = moving_point_check_->remove_moving_points(frame, nearby);
   }
   if (ok) ok = track_local_map(frame);
-  if (ok) ok = plausible_motion(frame);
-  if (ok) last_pose_distrusted_ = false;
+  if (ok) check_camera_speed(frame);
   outcome.relocalized = outcome.relocalized && ok;
   if (outcome.relocalized) ++relocalizations_;
   return ok;
@@ -252,31 +250,63 @@ void Tracker::update_velocity(const data::Frame& frame) {
   if (steps == 1 && dt > 0.0) frame_period_ = dt;
 }
 
-bool Tracker::plausible_motion(data::Frame& frame) {
+void Tracker::check_camera_speed(data::Frame& frame) {
   // Six frames at 30 Hz: long enough to average jitter out; at least three (stamps are rounded).
   constexpr double kWindowSeconds = 0.2, kMinSeconds = 0.09;
-  if (params_.max_camera_speed <= 0.0) return true;
+  if (params_.max_camera_speed <= 0.0) return;
   const auto stride = recent_stride(records_, map_, frame.timestamp(), frame.T_wc().translation(),
                                     kWindowSeconds, kMinSeconds);
-  if (!stride || stride->speed() <= params_.max_camera_speed) return true;
+  if (!stride || stride->speed() <= params_.max_camera_speed) return;
   ++implausible_motions_;
   const std::string what = fmt::format(
       "frame {}: tracking moved the camera {:.2f} m in {:.2f} s ({:.1f} m/s, over tracking.max_camera_speed "
-      "{:.2f}): it followed something that moves;",
+      "{:.2f});",
       frame.id(), stride->metres, stride->seconds, stride->speed(), params_.max_camera_speed);
   // Where the stride began the camera was still on the map, and a camera keeping to its speed
   // limit is near there: tracked again from that pose, the frame finds the map that stood still.
+  // Otherwise the first result stands: losing the frame would hand it to relocalization, which
+  // jumps by all the drift at once where tracking would have worked it off (walking_xyz static:
+  // 0.8-1.3 m jumps; bench/results/divergence.md).
   const FrameRecord from = *stride->from;
-  if (track_again_from(frame, from)) {
-    const double metres = (frame.T_wc().translation() - stride->from_t_wc).norm();
-    if (metres <= params_.max_camera_speed * (frame.timestamp() - from.timestamp)) {
-      spdlog::info("{} tracked again from frame {}'s pose, {:.2f} m from it", what, from.frame_id, metres);
-      return true;
+  SearchState first{reference_kf_, local_keyframes_, local_points_, inliers_};
+  data::Frame again = frame;
+  if (track_again_from(again, from)) {
+    const double metres = (again.T_wc().translation() - stride->from_t_wc).norm();
+    if (metres <= params_.max_camera_speed * (again.timestamp() - from.timestamp)) {
+      spdlog::info(
+          "{} it followed something that moves: tracked again from frame {}'s pose, {:.2f} m from it", what,
+          from.frame_id, metres);
+      frame = std::move(again);
+      restarted_motion_ = true;  // no velocity and no tracking link from the frames that followed
+      replace_followed_frames(from, frame);
+      return;
     }
+    spdlog::info("{} tracked again from frame {}'s pose it is {:.2f} m from there: kept", what, from.frame_id,
+                 metres);
+  } else {
+    spdlog::info("{} not tracked again from frame {}'s pose: kept", what, from.frame_id);
   }
-  last_pose_distrusted_ = true;
-  spdlog::info("{} lost, relocalizing", what);
-  return false;
+  reference_kf_ = first.reference;
+  local_keyframes_ = std::move(first.local_keyframes);
+  local_points_ = std::move(first.local_points);
+  inliers_ = first.inliers;
+}
+
+void Tracker::replace_followed_frames(const FrameRecord& from, const data::Frame& found) {
+  // The frames since `from` followed something else: their poses are placed again on the path
+  // between the two the map agrees with, by their stamps (the camera kept within its speed limit
+  // meanwhile), relative to from's reference keyframe. The trajectory files then hold no step
+  // where tracking came back; the live poses published for those frames stay as they were.
+  const Eigen::Isometry3d T_w_from = map_.resolve_pose(*from.reference, from.T_c_ref).inverse();
+  const Eigen::Isometry3d T_w_ref = map_.resolve_pose(*from.reference).inverse();
+  const Eigen::Isometry3d stride = T_w_from.inverse() * found.T_wc();
+  const double seconds = found.timestamp() - from.timestamp;
+  for (auto it = records_.rbegin(); it != records_.rend() && it->frame_id != from.frame_id; ++it) {
+    const Eigen::Isometry3d T_wc =
+        T_w_from * geometry::se3_power(stride, (it->timestamp - from.timestamp) / seconds);
+    it->reference = from.reference;
+    it->T_c_ref = T_wc.inverse() * T_w_ref;
+  }
 }
 
 bool Tracker::track_again_from(data::Frame& frame, const FrameRecord& from) {
@@ -290,10 +320,7 @@ bool Tracker::track_again_from(data::Frame& frame, const FrameRecord& from) {
   optimize_pose(frame);
   if (discard_outliers(frame, search_pass_) < params_.min_pose_inliers) return false;
   reference_kf_ = kf;
-  if (!track_local_map(frame)) return false;
-  // The frames since `from` followed something else: no velocity from them, no tracking link.
-  restarted_motion_ = true;
-  return true;
+  return track_local_map(frame);
 }
 
 bool Tracker::recently_recovered(const data::Frame& frame) const {

@@ -77,8 +77,8 @@ class Tracker {
   void set_localization_only(bool on) { localization_only_ = on; }
   // Frames relocalized so far.
   [[nodiscard]] int relocalizations() const { return relocalizations_; }
-  // Frames tracking moved faster than `tracking.max_camera_speed` (camera_stride.h): tracked
-  // again from where the stride began, or lost.
+  // Frames tracking moved faster than `tracking.max_camera_speed` (camera_stride.h), tracked
+  // again from where the stride began or not.
   [[nodiscard]] int implausible_motions() const { return implausible_motions_; }
 
   // World-to-camera pose of the next frame, taken at `timestamp`, by the constant-velocity model
@@ -113,10 +113,19 @@ class Tracker {
   // map points, then tells the map's reclamation so (map mutex held).
   void let_go_of_removed_objects();
   [[nodiscard]] bool recently_recovered(const data::Frame& frame) const;
-  // Whether the camera's stride up to this frame is one it can make (camera_stride.h); when not,
-  // the frame is tracked again from where the stride began, and kept if that makes it one.
-  [[nodiscard]] bool plausible_motion(data::Frame& frame);
+  // When the camera's stride up to this tracked frame is beyond its speed limit (camera_stride.h),
+  // tracks the frame again from where the stride began, and takes that when it makes the stride
+  // one the camera can make.
+  void check_camera_speed(data::Frame& frame);
   bool track_again_from(data::Frame& frame, const FrameRecord& from);
+  void replace_followed_frames(const FrameRecord& from, const data::Frame& found);
+  // What a search of the local map leaves in the tracker (kept to undo a second search).
+  struct SearchState {
+    map::KeyFrame* reference;
+    std::vector<map::KeyFrame*> local_keyframes;
+    std::vector<map::MapPoint*> local_points;
+    int inliers;
+  };
   // Camera frames from the last tracked frame to one taken at `timestamp`: more than one where
   // frames were dropped (a live node behind the camera) or are missing from a sequence.
   [[nodiscard]] int frame_steps(double timestamp) const;
@@ -156,9 +165,6 @@ class Tracker {
   std::uint64_t search_pass_ = 0;
   // This frame was tracked again from an earlier pose: no velocity or tracking link from the last.
   bool restarted_motion_ = false;
-  // Lost for moving too fast: the last pose followed something else, only place recognition
-  // may place the camera again (the reference keyframe is tried from that pose).
-  bool last_pose_distrusted_ = false;
   bool localization_only_ = false;
 };
 

@@ -30,7 +30,7 @@ struct TrackerParams {
   int min_relocalization_inliers = 20;  // after motion-only BA on the PnP inliers
   // Tracking that moves the camera faster than this (m/s, over the last 0.2 s) has followed
   // something that moves, a person walking past, not the camera: the frame is tracked again from
-  // where that stride began, or else lost and placed again by place recognition (camera_stride.h).
+  // where that stride began, and kept so when that is within the limit (camera_stride.h).
   // A hand-held camera or an indoor robot; raise it for faster platforms. 0: no limit.
   double max_camera_speed = 1.5;
   optim::PoseOptimizerParams pose;
