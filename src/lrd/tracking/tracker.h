@@ -96,6 +96,9 @@ class Tracker {
   bool track_frame(data::Frame& frame, TrackOutcome& outcome);
   bool localize_in_loaded_map(data::Frame& frame, TrackOutcome& outcome);
   bool track_reference_keyframe(data::Frame& frame);
+  // Descriptor matching against `kf`, then motion-only BA from `T_cw` (the reference keyframe's
+  // fallback, and tracking again from an earlier pose).
+  bool track_keyframe(data::Frame& frame, const map::KeyFrame& kf, const Eigen::Isometry3d& T_cw);
   bool relocalize(data::Frame& frame);  // relocalization.cc
   bool track_with_motion_model(data::Frame& frame);
   bool track_local_map(data::Frame& frame);
@@ -113,7 +116,7 @@ class Tracker {
   // map points, then tells the map's reclamation so (map mutex held).
   void let_go_of_removed_objects();
   [[nodiscard]] bool recently_recovered(const data::Frame& frame) const;
-  // When the camera's stride up to this tracked frame is beyond its speed limit (camera_stride.h),
+  // When the camera's stride up to this tracked frame is beyond its speed limit (camera_speed_check.cc),
   // tracks the frame again from where the stride began, and takes that when it makes the stride
   // one the camera can make.
   void check_camera_speed(data::Frame& frame);
