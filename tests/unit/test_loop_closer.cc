@@ -14,6 +14,7 @@
 
 #include "lrd/loop/loop_agreement.h"
 #include "lrd/loop/loop_closer.h"
+#include "lrd/loop/loop_solution.h"
 #include "lrd/mapping/local_mapper.h"
 #include "lrd/util/fault_injection.h"
 #include "lrd/util/thread_errors.h"
@@ -309,4 +310,51 @@ TEST(LoopAgreement, ACorrectionThatMovesSharedStructureAwayIsAContradiction) {
       lrd::loop::measure_loop_agreement(second, old, lrd::test::pose(0.0, 0.09, 0.0, 0.3, 0.0, 0.0));
   EXPECT_EQ(apart.shared, 0u);
   EXPECT_FALSE(apart.contradicts());
+}
+
+// After the fusion the real solve is judged like the dry run (loop/loop_solution.h): one that
+// leaves the loop open (the fusion linked the neighbourhood to keyframes that drifted with it and
+// stayed) or tears a keyframe from its parent gives way to the dry run's solution, which closed the
+// loop; one that closes it within the limits stays.
+TEST(LoopSolution, TheRealSolveGivesWayToTheDryRunWhenItLeavesTheLoopOpenOrTearsTheMap) {
+  ClosingScene c;
+  LoopScene& s = c.s;
+  lrd::loop::LoopDetection loop;
+  loop.current = s.back[3];
+  loop.loop = s.first[3];
+  loop.T_cw_corrected = LoopScene::true_pose(3);  // what the loop's matches measure
+  const std::vector<KeyFrame*> all = c.all();
+  const lrd::optim::PoseOf pre = [](KeyFrame* k) { return k->T_cw(); };
+  // The second visit (and the keyframe beside it) where it drifted, and where the loop puts it.
+  lrd::optim::PoseGraphResult open, closed, torn;
+  for (KeyFrame* k : all) {
+    const bool second_visit = std::find(s.first.begin(), s.first.end(), k) == s.first.end();
+    open.T_cw[k->id()] = k->T_cw();
+    closed.T_cw[k->id()] = second_visit ? Eigen::Isometry3d(k->T_cw() * s.drift().inverse()) : k->T_cw();
+    torn.T_cw[k->id()] = k == s.back[3] ? closed.T_cw[k->id()] : k->T_cw();
+  }
+  const double drift_m = translation_error(s.back[3]->T_cw(), LoopScene::true_pose(3));
+  ASSERT_GT(drift_m, 0.3);
+  EXPECT_NEAR(lrd::loop::loop_gap(open.T_cw, loop).metres, drift_m, 1e-9);
+  EXPECT_NEAR(lrd::loop::loop_gap(closed.T_cw, loop).metres, 0.0, 1e-9);
+  EXPECT_NEAR(lrd::loop::loop_gap(closed.T_cw, loop).degrees, 0.0, 1e-6);
+  EXPECT_NEAR(lrd::loop::loop_gap(torn.T_cw, loop).metres, 0.0, 1e-9);
+  const LoopClosingParams p = params(false);  // limits 0.25 m, 10 deg
+
+  const auto settled_on = [&](lrd::optim::PoseGraphResult result, bool expect_dry_run) {
+    EXPECT_EQ(lrd::loop::settle_on_plausible_solution(all, pre, loop, closed, result, p), expect_dry_run);
+    return result;
+  };
+  // Open by the whole drift: the dry run's poses replace it.
+  const auto from_open = settled_on(open, true);
+  for (KeyFrame* k : all)
+    EXPECT_TRUE(from_open.T_cw.at(k->id()).isApprox(closed.T_cw.at(k->id()))) << k->id();
+  // Closed, but only the loop's keyframe moved: torn from its parent by the drift.
+  const auto from_torn = settled_on(torn, true);
+  for (KeyFrame* k : all)
+    EXPECT_TRUE(from_torn.T_cw.at(k->id()).isApprox(closed.T_cw.at(k->id()))) << k->id();
+  // Closed and every pair kept: it stays, whatever the dry run found.
+  lrd::optim::PoseGraphResult result = closed;
+  EXPECT_FALSE(lrd::loop::settle_on_plausible_solution(all, pre, loop, open, result, p));
+  for (KeyFrame* k : all) EXPECT_TRUE(result.T_cw.at(k->id()).isApprox(closed.T_cw.at(k->id()))) << k->id();
 }

@@ -10,6 +10,7 @@
 
 #include "lrd/loop/essential_graph.h"
 #include "lrd/loop/loop_agreement.h"
+#include "lrd/loop/loop_solution.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/keyframe_database.h"
 #include "lrd/map/map.h"
@@ -26,51 +27,6 @@ namespace lrd::loop {
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-using KeyFramePoses = std::map<map::KeyFrame*, Eigen::Isometry3d, map::ById>;
-
-// A keyframe's pose in `poses`, or its current one if it has none there.
-Eigen::Isometry3d pose_in(const KeyFramePoses& poses, map::KeyFrame* k) {
-  const auto it = poses.find(k);
-  return it != poses.end() ? it->second : k->T_cw();
-}
-
-// The plausibility check of a loop's correction (reliability issue, item 1): a dry run of step 3 on
-// the graph as it is, with the loop's edge and the neighbourhood moved. A correction that changes
-// one spanning-tree edge by decimetres has not spread a drift along the loop: it would tear the
-// trajectory apart (the 0.5-0.8 m jumps of `static` mode on walking_rpy). Warns when it refuses;
-// otherwise returns its solution, which the correction falls back on (step 3).
-std::optional<optim::PoseGraphResult> plausible_correction(
-    const map::Map& map, const LoopClosingParams& params, const LoopDetection& loop,
-    const KeyFramePoses& uncorrected, const KeyFramePoses& corrected, double correction_m) {
-  const std::vector<map::KeyFrame*> all = map.keyframes();
-  const optim::PoseOf pre = [&](map::KeyFrame* k) { return pose_in(uncorrected, k); };
-  // The fusion will link the neighbourhood across the loop: each of its keyframes to the loop
-  // keyframe at its corrected pose stands in for those links.
-  EssentialGraph graph;
-  graph.add_edge(loop.current, loop.loop, loop.loop->T_cw() * loop.T_cw_corrected.inverse());
-  for (const auto& [k, T_cw] : corrected)
-    if (k != loop.loop) graph.add_edge(k, loop.loop, loop.loop->T_cw() * T_cw.inverse());
-  graph.add_map_edges(all, pre, params.essential_min_weight);
-  const optim::PoseGraphResult result = graph.solve(
-      all, [&](map::KeyFrame* k) { return pose_in(corrected, k); }, loop.loop, params.pose_graph_iterations);
-  const optim::OdometryChange change =
-      optim::largest_odometry_change(all, pre, [&](map::KeyFrame* k) { return result.T_cw.at(k->id()); });
-  if (change.within(params.pose_graph_max_edge_change_m, params.pose_graph_max_edge_change_deg)) {
-    spdlog::debug(
-        "loop {}-{}: correction {:.3f} m, dry run moves keyframe {} by {:.3f} m / {:.2f} deg against "
-        "keyframe {}",
-        loop.current->id(), loop.loop->id(), correction_m, change.keyframe, change.metres, change.degrees,
-        change.other);
-    return result;
-  }
-  spdlog::warn(
-      "loop {}-{} rejected: its correction ({:.3f} m) would {}, its parent or tracked beside it (at most {} "
-      "m / {} deg): the drift is not spread along the loop",
-      loop.current->id(), loop.loop->id(), correction_m,
-      change.beyond(params.pose_graph_max_edge_change_m, params.pose_graph_max_edge_change_deg),
-      params.pose_graph_max_edge_change_m, params.pose_graph_max_edge_change_deg);
-  return std::nullopt;
 }
 }  // namespace
 
@@ -318,25 +274,7 @@ std::optional<LoopEvent> LoopCloser::correct_loop(const LoopDetection& loop) {
       all, [&](map::KeyFrame* k) { return before.at(k); }, loop.loop, params_.pose_graph_iterations);
   event.keyframes = all.size();
   event.pose_graph_edges = graph.edges.size();
-  // The dry run judged an approximation of this solve (the fusion's links stood in by edges to the
-  // loop keyframe). The fusion's own links can still tear the odometry (walking_halfsphere in
-  // `static` mode: keyframe 86 moved 0.54 m against its parent 85, 5 cm apart in truth): then the
-  // map takes the dry run's solution, which kept every pair within the limits. The fused points
-  // stay; they follow their keyframes either way.
-  const optim::Fallback fallback =
-      optim::fall_back_if_torn(all, pre, result.T_cw, dry_run->T_cw, params_.pose_graph_max_edge_change_m,
-                               params_.pose_graph_max_edge_change_deg);
-  event.dry_run_solution = fallback.taken;
-  const optim::OdometryChange& change = fallback.change;
-  spdlog::debug("loop {}-{}: the correction moved keyframe {} by {:.3f} m / {:.1f} deg against keyframe {}",
-                kf->id(), loop.loop->id(), change.keyframe, change.metres, change.degrees, change.other);
-  if (fallback.taken)
-    spdlog::warn(
-        "loop {}-{}: with the fusion's links the correction would {} (at most {} m / {} deg); the map takes "
-        "its dry run's solution",
-        kf->id(), loop.loop->id(),
-        change.beyond(params_.pose_graph_max_edge_change_m, params_.pose_graph_max_edge_change_deg),
-        params_.pose_graph_max_edge_change_m, params_.pose_graph_max_edge_change_deg);
+  event.dry_run_solution = settle_on_plausible_solution(all, pre, loop, *dry_run, result, params_);
   for (map::KeyFrame* k : all) k->set_pose(result.T_cw.at(k->id()));
   // Followers (no edges) keep their place relative to the current keyframe.
   for (map::KeyFrame* k : followers) k->set_pose(before.at(k) * before.at(kf).inverse() * kf->T_cw());

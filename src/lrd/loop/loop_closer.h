@@ -6,8 +6,8 @@
 //  2. the loop side's map points are fused with theirs (duplicates merged);
 //  3. the essential graph (spanning tree, loop edges, strong covisibility edges and the new
 //     loop connections) is optimized as a pose graph, and every map point follows its keyframe
-//     (a dry run of it comes first: a loop whose correction would tear the spanning tree apart
-//     is refused before anything moves);
+//     (a dry run of it comes first: a loop whose correction would tear the spanning tree apart,
+//     or that the graph cannot close, is refused before anything moves; loop_solution.h);
 //  4. global bundle adjustment refines the whole map in its own thread and is merged without
 //     stopping tracking (optim/global_bundle_adjuster.h).
 // Trajectories follow automatically: frames are stored relative to keyframes.
@@ -53,7 +53,7 @@ struct LoopClosingParams {
   double global_ba_max_edge_change_m = 0.1;
   double global_ba_max_edge_change_deg = 5.0;
   // A loop whose pose-graph correction would change a keyframe's pose against its spanning-tree
-  // parent by more than this is refused (loop_closer.cc, correction_is_plausible).
+  // parent by more than this, or leave the loop open by more, is refused (loop_solution.h).
   double pose_graph_max_edge_change_m = 0.25;
   double pose_graph_max_edge_change_deg = 10.0;
   // Reads the `loop_closing` section of the config (and finishes it); relative paths are
@@ -75,7 +75,8 @@ struct LoopEvent {
   std::size_t pose_graph_edges = 0;
   double detection_seconds = 0.0;   // place recognition and the loop's relative pose
   double correction_seconds = 0.0;  // moving the neighbourhood, fusion, pose graph, every point
-  // The solve with the fusion's links tore the odometry; the map took the dry run's solution.
+  // The solve with the fusion's links tore the odometry or left the loop open; the map took the
+  // dry run's solution.
   bool dry_run_solution = false;
 };
 

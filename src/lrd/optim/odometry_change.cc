@@ -73,9 +73,13 @@ Fallback fall_back_if_torn(const std::vector<map::KeyFrame*>& keyframes, const P
       largest_odometry_change(keyframes, before, [&](map::KeyFrame* k) { return solution.at(k->id()); });
   if (f.change.within(max_metres, max_degrees)) return f;
   f.taken = true;
-  for (auto& [id, T_cw] : solution)
-    if (const auto it = fallback.find(id); it != fallback.end()) T_cw = it->second;
+  take_solution(solution, fallback);
   return f;
+}
+
+void take_solution(SolvedPoses& solution, const SolvedPoses& other) {
+  for (auto& [id, T_cw] : solution)
+    if (const auto it = other.find(id); it != other.end()) T_cw = it->second;
 }
 
 }  // namespace lrd::optim

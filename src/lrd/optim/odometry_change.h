@@ -59,6 +59,9 @@ struct Fallback {
   bool taken = false;     // it went beyond the limits and the fallback replaced it
 };
 
+// `other`'s poses in place of `solution`'s (poses `other` lacks stay).
+void take_solution(SolvedPoses& solution, const SolvedPoses& other);
+
 // `solution`, or, when it changes the odometry of `keyframes` (against `before`) beyond the limits,
 // the `fallback` solution's poses in its place (poses the fallback lacks stay): the loop
 // correction's real solve and its dry run (loop_closer.cc).
