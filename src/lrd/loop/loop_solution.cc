@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <cmath>
 #include <cstdint>
 
 #include "lrd/loop/essential_graph.h"
@@ -19,8 +18,7 @@ Eigen::Isometry3d pose_in(const KeyFramePoses& poses, map::KeyFrame* k) {
 LoopGap loop_gap(const optim::SolvedPoses& T_cw, const LoopDetection& loop) {
   const Eigen::Isometry3d measured = loop.loop->T_cw() * loop.T_cw_corrected.inverse();
   const Eigen::Isometry3d solved = T_cw.at(loop.loop->id()) * T_cw.at(loop.current->id()).inverse();
-  const Eigen::Isometry3d error = measured.inverse() * solved;
-  return {error.translation().norm(), Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI};
+  return optim::motion_size(measured.inverse() * solved);
 }
 
 // The plausibility check of a loop's correction (reliability issue, item 1): a dry run of step 3 on
@@ -103,9 +101,8 @@ bool settle_on_plausible_solution(const std::vector<map::KeyFrame*>& all, const 
   if (gap.within(max_m, max_deg)) return false;
   optim::take_solution(result.T_cw, dry_run.T_cw);
   spdlog::warn(
-      "loop {}-{}: with the fusion's links the pose graph leaves the loop {:.3f} m / {:.1f} deg open (at "
-      "most "
-      "{} m / {} deg); the map takes its dry run's solution",
+      "loop {}-{}: with the fusion's links the pose graph leaves the loop {:.3f} m / {:.1f} deg open "
+      "(at most {} m / {} deg); the map takes its dry run's solution",
       current, old, gap.metres, gap.degrees, max_m, max_deg);
   return true;
 }

@@ -29,13 +29,7 @@ Eigen::Isometry3d pose_in(const KeyFramePoses& poses, map::KeyFrame* k);
 
 // How far a solution leaves the loop open: the current keyframe's pose against the loop keyframe's,
 // solved against measured by the loop's matches.
-struct LoopGap {
-  double metres = 0.0;
-  double degrees = 0.0;
-  [[nodiscard]] bool within(double max_metres, double max_degrees) const {
-    return metres <= max_metres && degrees <= max_degrees;
-  }
-};
+using LoopGap = optim::MotionSize;
 [[nodiscard]] LoopGap loop_gap(const optim::SolvedPoses& T_cw, const LoopDetection& loop);
 
 // The dry run: the essential graph as it is, the neighbourhood at its `corrected` poses, the loop's

@@ -10,21 +10,22 @@
 
 namespace lrd::optim {
 
+MotionSize motion_size(const Eigen::Isometry3d& T) {
+  return {T.translation().norm(), Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI};
+}
+
 OdometryChange largest_odometry_change(const std::vector<map::KeyFrame*>& keyframes, const PoseOf& before,
                                        const PoseOf& after,
                                        const std::function<bool(const map::KeyFrame*)>& counted) {
   std::unordered_map<std::uint64_t, map::KeyFrame*> by_id;
   for (map::KeyFrame* k : keyframes) by_id.emplace(k->id(), k);
   OdometryChange worst;
-  const auto size = [](const Eigen::Isometry3d& T) {
-    return std::pair{T.translation().norm(), Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI};
-  };
   const auto measure = [&](map::KeyFrame* k, map::KeyFrame* other, const Eigen::Isometry3d* tracked) {
     if (other == nullptr || other->is_bad()) return;
     if (counted && (!counted(k) || !counted(other))) return;
     const Eigen::Isometry3d rel_before = before(k) * before(other).inverse();
     const Eigen::Isometry3d rel_after = after(k) * after(other).inverse();
-    const auto [metres, degrees] = size(rel_before.inverse() * rel_after);
+    const auto [metres, degrees] = motion_size(rel_before.inverse() * rel_after);
     if (metres > worst.metres) {
       worst.keyframe = k->id();
       worst.other = other->id();
@@ -34,8 +35,8 @@ OdometryChange largest_odometry_change(const std::vector<map::KeyFrame*>& keyfra
     if (tracked == nullptr) return;
     // Further from the tracked odometry than before: by a millimetre or a twentieth of a degree
     // (a solver's noise on a pair it leaves alone is not a step away).
-    const auto [was_m, was_deg] = size(tracked->inverse() * rel_before);
-    const auto [now_m, now_deg] = size(tracked->inverse() * rel_after);
+    const auto [was_m, was_deg] = motion_size(tracked->inverse() * rel_before);
+    const auto [now_m, now_deg] = motion_size(tracked->inverse() * rel_after);
     if (now_m <= was_m + 1e-3 && now_deg <= was_deg + 0.05) return;
     if (now_m > worst.from_tracked_metres) {
       worst.from_tracked_keyframe = k->id();

@@ -22,6 +22,16 @@ namespace lrd::optim {
 // World-to-camera pose of a keyframe under one solution (or before it).
 using PoseOf = std::function<Eigen::Isometry3d(map::KeyFrame*)>;
 
+// The size of a rigid motion: its translation and its rotation angle.
+struct MotionSize {
+  double metres = 0.0;
+  double degrees = 0.0;
+  [[nodiscard]] bool within(double max_metres, double max_degrees) const {
+    return metres <= max_metres && degrees <= max_degrees;
+  }
+};
+[[nodiscard]] MotionSize motion_size(const Eigen::Isometry3d& T);
+
 struct OdometryChange {
   double metres = 0.0;
   double degrees = 0.0;
