@@ -1,9 +1,15 @@
-// Tracker::check_camera_speed (reliability issue 22): tracking that moved the camera faster than
-// tracking.max_camera_speed followed a person walking past; the frame is tracked again from where
-// that stride began, and the frames that followed are placed again (docs/slam-core.md, "Moving
-// faster than a camera").
+// Tracking against the camera's speed limit, tracking.max_camera_speed (reliability issue 22;
+// docs/slam-core.md, "Moving faster than a camera"):
+//  - Tracker::check_camera_speed: tracking that moved the camera faster than the limit followed a
+//    person walking past; the frame is tracked again from where that stride began, and the frames
+//    that followed are placed again; those it cannot track again are placed again when a
+//    relocalization soon after finds the map.
+//  - Tracker::recover: after a brief loss, a relocalization beyond where the camera can have gone
+//    gives way to tracking from the last pose.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -13,14 +19,76 @@
 #include "lrd/tracking/tracker.h"
 
 namespace lrd::tracking {
+namespace {
+// Six frames at 30 Hz: long enough to average jitter out; at least three (stamps are rounded).
+constexpr double kWindowSeconds = 0.2, kMinSeconds = 0.09;
+// A relocalization this soon after the last frame over the limit places the frames that followed
+// (run 17 of walking_rpy static came back 0.1 s after).
+constexpr double kFollowedLossSeconds = 0.5;
+// Lost for longer than this, the camera may be anywhere: a relocalization is taken wherever it is.
+constexpr double kBriefLossSeconds = 1.0;
+}  // namespace
+
+bool Tracker::recover(data::Frame& frame, TrackOutcome& outcome) {
+  // Relocalize by place recognition; failing that (or without a vocabulary), try the last
+  // reference keyframe from the last known pose.
+  map::KeyFrame* const last_reference = reference_kf_;
+  if (!relocalize(frame)) return track_reference_keyframe(frame);
+  const std::optional<double> metres = implausible_recovery(frame);
+  if (!metres) return outcome.relocalized = true;
+  // No candidate placed the camera where it can have gone since it was lost: the map holds this
+  // place twice, apart by its drift (a static-mode walking_rpy run relocalized 1.15 m from where
+  // it was lost a frame before; bench/results/divergence.md). Tracked from the last pose instead,
+  // the trajectory does not jump; failing that the frame stays lost, and after a second lost any
+  // relocalization stands.
+  data::Frame near = frame;
+  map::KeyFrame* const relocalized_kf = reference_kf_;
+  reference_kf_ = last_reference;
+  if (track_reference_keyframe(near)) {
+    spdlog::info(
+        "frame {}: relocalized against keyframe {} {:.2f} m from the last tracked pose, beyond the "
+        "speed limit: tracked from the last pose against keyframe {} instead",
+        frame.id(), relocalized_kf->id(), *metres, last_reference->id());
+    frame = std::move(near);
+    return true;
+  }
+  spdlog::info(
+      "frame {}: relocalized against keyframe {} {:.2f} m from the last tracked pose, beyond the "
+      "speed limit, and not tracked from the last pose: lost",
+      frame.id(), relocalized_kf->id(), *metres);
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  return false;
+}
+
+std::optional<double> Tracker::implausible_recovery(const data::Frame& frame) const {
+  if (params_.max_camera_speed <= 0.0) return std::nullopt;
+  const auto last = std::find_if(records_.rbegin(), records_.rend(), [](const FrameRecord& r) {
+    return r.state == TrackingState::Ok && r.reference.has_value();
+  });
+  if (last == records_.rend() || frame.timestamp() - last->timestamp > kBriefLossSeconds) return std::nullopt;
+  const auto centre = [&](const FrameRecord& r) -> Eigen::Vector3d {
+    return map_.resolve_pose(*r.reference, r.T_c_ref).inverse().translation();
+  };
+  const double metres = (frame.T_wc().translation() - centre(*last)).norm();
+  if (metres <= params_.max_camera_speed * (frame.timestamp() - last->timestamp)) return std::nullopt;
+  // Frames over the limit just before may have followed a person away from the camera: where the
+  // first of them began its stride counts too (replace_frames_followed_before_loss).
+  if (followed_since_ && frame.timestamp() - followed_until_ <= kFollowedLossSeconds &&
+      (frame.T_wc().translation() - centre(*followed_since_)).norm() <=
+          params_.max_camera_speed * (frame.timestamp() - followed_since_->timestamp))
+    return std::nullopt;
+  return metres;
+}
 
 void Tracker::check_camera_speed(data::Frame& frame) {
-  // Six frames at 30 Hz: long enough to average jitter out; at least three (stamps are rounded).
-  constexpr double kWindowSeconds = 0.2, kMinSeconds = 0.09;
   if (params_.max_camera_speed <= 0.0) return;
   const auto stride = recent_stride(records_, map_, frame.timestamp(), frame.T_wc().translation(),
                                     kWindowSeconds, kMinSeconds);
-  if (!stride || stride->speed() <= params_.max_camera_speed) return;
+  if (!stride) return;
+  if (stride->speed() <= params_.max_camera_speed) {
+    followed_since_.reset();
+    return;
+  }
   ++implausible_motions_;
   const std::string what = fmt::format(
       "frame {}: tracking moved the camera {:.2f} m in {:.2f} s ({:.1f} m/s, over tracking.max_camera_speed "
@@ -41,6 +109,7 @@ void Tracker::check_camera_speed(data::Frame& frame) {
           "{} it followed something that moves: tracked again from frame {}'s pose, {:.2f} m from it", what,
           from.frame_id, metres);
       frame = std::move(again);
+      if (followed_since_) followed_until_ = frame.timestamp();  // tracked again from a followed pose
       restarted_motion_ = true;  // no velocity and no tracking link from the frames that followed
       replace_followed_frames(from, frame);
       return;
@@ -50,6 +119,8 @@ void Tracker::check_camera_speed(data::Frame& frame) {
   } else {
     spdlog::info("{} not tracked again from frame {}'s pose: kept", what, from.frame_id);
   }
+  if (!followed_since_) followed_since_ = from;
+  followed_until_ = frame.timestamp();
   reference_kf_ = first.reference;
   local_keyframes_ = std::move(first.local_keyframes);
   local_points_ = std::move(first.local_points);
@@ -66,11 +137,37 @@ void Tracker::replace_followed_frames(const FrameRecord& from, const data::Frame
   const Eigen::Isometry3d stride = T_w_from.inverse() * found.T_wc();
   const double seconds = found.timestamp() - from.timestamp;
   for (auto it = records_.rbegin(); it != records_.rend() && it->frame_id != from.frame_id; ++it) {
+    if (it->state != TrackingState::Ok) continue;  // a lost frame stays lost
     const Eigen::Isometry3d T_wc =
         T_w_from * geometry::se3_power(stride, (it->timestamp - from.timestamp) / seconds);
     it->reference = from.reference;
     it->T_c_ref = T_wc.inverse() * T_w_ref;
   }
+}
+
+void Tracker::replace_frames_followed_before_loss(const data::Frame& relocalized) {
+  // Tracking that followed a person until the map no longer agreed is lost, then relocalized
+  // against the map that stood still: without this, the trajectory steps back by all it followed
+  // at once (walking_rpy static, run 17: 0.84 m; bench/results/divergence.md).
+  if (!followed_since_) return;
+  const FrameRecord from = *std::exchange(followed_since_, std::nullopt);
+  const double lost_seconds = relocalized.timestamp() - followed_until_;
+  if (lost_seconds > kFollowedLossSeconds) return;  // lost for longer: too far back to judge
+  const Eigen::Vector3d from_t_wc = map_.resolve_pose(*from.reference, from.T_c_ref).inverse().translation();
+  const double metres = (relocalized.T_wc().translation() - from_t_wc).norm();
+  const double seconds = relocalized.timestamp() - from.timestamp;
+  if (metres > params_.max_camera_speed * seconds) {
+    spdlog::info(
+        "frame {}: relocalized {:.2f} m from frame {}'s pose in {:.2f} s, over the speed limit: "
+        "the frames between keep their poses",
+        relocalized.id(), metres, from.frame_id, seconds);
+    return;
+  }
+  spdlog::info(
+      "frame {}: relocalized {:.2f} m from frame {}'s pose, {:.2f} s after the last frame it "
+      "flagged as too fast: the frames between placed again on the path",
+      relocalized.id(), metres, from.frame_id, lost_seconds);
+  replace_followed_frames(from, relocalized);
 }
 
 bool Tracker::track_again_from(data::Frame& frame, const FrameRecord& from) {

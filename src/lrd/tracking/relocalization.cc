@@ -5,7 +5,9 @@
 #include <spdlog/spdlog.h>
 
 #include <opencv2/calib3d.hpp>
+#include <optional>
 #include <unordered_set>
+#include <utility>
 
 #include "lrd/map/keyframe.h"
 #include "lrd/map/keyframe_database.h"
@@ -47,6 +49,15 @@ bool Tracker::relocalize(data::Frame& frame) {
   const camera::PinholeCamera& cam = frame.camera();
   const cv::Matx33d K(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
   std::vector<map::MapPoint*> matches;
+  // The first pose found beyond where the camera can have gone since it was lost: taken only when
+  // no candidate gives a nearer one (a map that drifted holds the same place twice).
+  struct Found {
+    map::KeyFrame* kf;
+    int inliers;
+    Eigen::Isometry3d T_cw;
+    std::vector<map::MapPoint*> map_points;
+  };
+  std::optional<Found> far;
   for (std::size_t c = 0; c < candidates.size() && c < kMaxCandidates; ++c) {
     map::KeyFrame* kf = candidates[c];
     if (kf->is_bad()) continue;
@@ -94,13 +105,27 @@ bool Tracker::relocalize(data::Frame& frame) {
     if (good < params_.min_relocalization_inliers) continue;
     for (std::size_t i = 0; i < frame.size(); ++i)
       if (frame.outliers[i]) frame.map_points[i] = nullptr;
+    if (const auto metres = implausible_recovery(frame)) {
+      spdlog::debug("frame {}: relocalization against keyframe {} is {:.2f} m from the last tracked pose",
+                    frame.id(), kf->id(), *metres);
+      if (!far) far = Found{kf, good, frame.T_cw(), frame.map_points};
+      continue;
+    }
     reference_kf_ = kf;
     spdlog::info("frame {}: relocalized against keyframe {} ({} inliers)", frame.id(), kf->id(), good);
     return true;
   }
-  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
   std::fill(frame.outliers.begin(), frame.outliers.end(), false);
-  return false;
+  if (!far) {
+    std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+    return false;
+  }
+  frame.set_pose(far->T_cw);
+  frame.map_points = std::move(far->map_points);
+  reference_kf_ = far->kf;
+  spdlog::debug("frame {}: relocalized against keyframe {} ({} inliers), {:.2f} m from the last tracked pose",
+                frame.id(), far->kf->id(), far->inliers, implausible_recovery(frame).value_or(0.0));
+  return true;
 }
 
 }  // namespace lrd::tracking

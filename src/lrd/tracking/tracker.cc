@@ -163,10 +163,7 @@ bool Tracker::track_frame(data::Frame& frame, TrackOutcome& outcome) {
     if (velocity_ && !recently_recovered(frame)) ok = track_with_motion_model(frame);
     if (!ok) ok = track_reference_keyframe(frame);
   } else {
-    // Lost: relocalize by place recognition; failing that (or without a vocabulary), try the
-    // last reference keyframe from the last known pose.
-    outcome.relocalized = relocalize(frame);
-    ok = outcome.relocalized || track_reference_keyframe(frame);
+    ok = recover(frame, outcome);
     if (ok) {
       recovered_ = true;
       recovered_frame_id_ = frame.id();
@@ -182,7 +179,10 @@ bool Tracker::track_frame(data::Frame& frame, TrackOutcome& outcome) {
   if (ok) ok = track_local_map(frame);
   if (ok) check_camera_speed(frame);
   outcome.relocalized = outcome.relocalized && ok;
-  if (outcome.relocalized) ++relocalizations_;
+  if (outcome.relocalized) {
+    ++relocalizations_;
+    replace_frames_followed_before_loss(frame);
+  }
   return ok;
 }
 

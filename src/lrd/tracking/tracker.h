@@ -100,6 +100,11 @@ class Tracker {
   // fallback, and tracking again from an earlier pose).
   bool track_keyframe(data::Frame& frame, const map::KeyFrame& kf, const Eigen::Isometry3d& T_cw);
   bool relocalize(data::Frame& frame);  // relocalization.cc
+  // Lost: relocalization, or the last reference keyframe from the last pose (camera_speed_check.cc).
+  bool recover(data::Frame& frame, TrackOutcome& outcome);
+  // Metres from the last tracked pose to the frame's, when a camera within its speed limit cannot
+  // have gone so far in the time it was lost (nothing after a second lost, or without a limit).
+  [[nodiscard]] std::optional<double> implausible_recovery(const data::Frame& frame) const;
   bool track_with_motion_model(data::Frame& frame);
   bool track_local_map(data::Frame& frame);
   void update_local_keyframes(data::Frame& frame);
@@ -122,6 +127,9 @@ class Tracker {
   void check_camera_speed(data::Frame& frame);
   bool track_again_from(data::Frame& frame, const FrameRecord& from);
   void replace_followed_frames(const FrameRecord& from, const data::Frame& found);
+  // A relocalization soon after frames the speed check flagged and kept places them on the path
+  // from where they began to follow to the relocalized pose, when the camera could make it.
+  void replace_frames_followed_before_loss(const data::Frame& relocalized);
   // What a search of the local map leaves in the tracker (kept to undo a second search).
   struct SearchState {
     map::KeyFrame* reference;
@@ -168,6 +176,10 @@ class Tracker {
   std::uint64_t search_pass_ = 0;
   // This frame was tracked again from an earlier pose: no velocity or tracking link from the last.
   bool restarted_motion_ = false;
+  // Where the stride of the first frame flagged and kept since the last stride within the limit
+  // began, and the stamp of the last one so flagged (a relocalization soon after places them).
+  std::optional<FrameRecord> followed_since_;
+  double followed_until_ = 0.0;
   bool localization_only_ = false;
 };
 
