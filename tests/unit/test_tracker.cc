@@ -269,6 +269,24 @@ TEST(Tracker, ACameraThatTrulyMovesFasterThanItsSpeedLimitStaysTracked) {
   EXPECT_EQ(implausible, 0);
 }
 
+lrd::tracking::TrackerParams speed_limited(double max_camera_speed) {
+  lrd::tracking::TrackerParams params;
+  params.max_camera_speed = max_camera_speed;
+  return params;
+}
+
+// With place recognition (to relocalize), after ten frames creeping 5 mm each (0.05 m/s).
+struct CreptRig : Rig {
+  explicit CreptRig(double max_camera_speed) : Rig(speed_limited(max_camera_speed)) {
+    tracker.set_place_recognition(&vocabulary, &database);
+    mapper.set_place_recognition(&vocabulary, &database);
+    for (int k = 0; k < 10; ++k) EXPECT_EQ(track(pose(0, 0, 0, -0.005 * k, 0, 0)).state, TrackingState::Ok);
+  }
+  lrd::map::KeyFrameDatabase database;
+  lrd::place::Vocabulary vocabulary =
+      lrd::place::Vocabulary::load(lrd::util::find_project_file("vocab/orb_vocab.lrdv"));
+};
+
 // The camera centres of frames `first`..`last` as the trajectory files will hold them.
 std::vector<Eigen::Vector3d> recorded_centres(const Rig& rig, std::uint64_t first, std::uint64_t last) {
   std::vector<Eigen::Vector3d> out;
@@ -288,14 +306,7 @@ Eigen::Isometry3d jump_pose(int j) {
 // 2 cm from where the jump began. Returns the centres recorded for frames 8-13 (frame 12, lost,
 // has none).
 std::vector<Eigen::Vector3d> follow_then_relocalize(double max_camera_speed) {
-  lrd::tracking::TrackerParams params;
-  params.max_camera_speed = max_camera_speed;
-  Rig rig(params);
-  lrd::map::KeyFrameDatabase database;
-  const auto vocabulary = lrd::place::Vocabulary::load(lrd::util::find_project_file("vocab/orb_vocab.lrdv"));
-  rig.tracker.set_place_recognition(&vocabulary, &database);
-  rig.mapper.set_place_recognition(&vocabulary, &database);
-  for (int k = 0; k < 10; ++k) EXPECT_EQ(rig.track(pose(0, 0, 0, -0.005 * k, 0, 0)).state, TrackingState::Ok);
+  CreptRig rig(max_camera_speed);
   for (int j = 1; j <= 2; ++j) EXPECT_EQ(rig.track(jump_pose(j)).state, TrackingState::Ok);
   EXPECT_EQ(rig.track_blank().state, TrackingState::Lost);
   const auto back = rig.track(pose(0, 0, 0, -0.06, 0, 0));
@@ -329,14 +340,7 @@ TEST(Tracker, FramesKeptOverTheSpeedLimitArePlacedAgainByARelocalizationSoonAfte
 // Creeps for ten frames, loses one frame, and comes back `step` metres on (0.2 s after the last
 // tracked frame).
 lrd::tracking::TrackOutcome come_back_after_a_loss(double max_camera_speed, double step) {
-  lrd::tracking::TrackerParams params;
-  params.max_camera_speed = max_camera_speed;
-  Rig rig(params);
-  lrd::map::KeyFrameDatabase database;
-  const auto vocabulary = lrd::place::Vocabulary::load(lrd::util::find_project_file("vocab/orb_vocab.lrdv"));
-  rig.tracker.set_place_recognition(&vocabulary, &database);
-  rig.mapper.set_place_recognition(&vocabulary, &database);
-  for (int k = 0; k < 10; ++k) EXPECT_EQ(rig.track(pose(0, 0, 0, -0.005 * k, 0, 0)).state, TrackingState::Ok);
+  CreptRig rig(max_camera_speed);
   EXPECT_EQ(rig.track_blank().state, TrackingState::Lost);
   return rig.track(pose(0, 0, 0, -0.045 - step, 0, 0));
 }
