@@ -198,13 +198,26 @@ TEST(Tracker, TheLocalMapKeepsAtMostMaxLocalKeyframes) {
   EXPECT_LE(largest_local_map(capped), 2u);
 }
 
-TEST(Tracker, LossIsAStateAndTrackingResumesWhenTheViewComesBack) {
-  Rig rig;
+lrd::tracking::TrackerParams speed_limited(double max_camera_speed) {
+  lrd::tracking::TrackerParams params;
+  params.max_camera_speed = max_camera_speed;
+  return params;
+}
+
+// With place recognition (to relocalize), after ten frames creeping 5 mm each (0.05 m/s).
+struct CreptRig : Rig {
+  explicit CreptRig(double max_camera_speed) : Rig(speed_limited(max_camera_speed)) {
+    tracker.set_place_recognition(&vocabulary, &database);
+    mapper.set_place_recognition(&vocabulary, &database);
+    for (int k = 0; k < 10; ++k) EXPECT_EQ(track(pose(0, 0, 0, -0.005 * k, 0, 0)).state, TrackingState::Ok);
+  }
   lrd::map::KeyFrameDatabase database;
-  const auto vocabulary = lrd::place::Vocabulary::load(lrd::util::find_project_file("vocab/orb_vocab.lrdv"));
-  rig.tracker.set_place_recognition(&vocabulary, &database);
-  rig.mapper.set_place_recognition(&vocabulary, &database);
-  for (int k = 0; k < 10; ++k) ASSERT_EQ(rig.track(pose(0, 0, 0, -0.005 * k, 0, 0)).state, TrackingState::Ok);
+  lrd::place::Vocabulary vocabulary =
+      lrd::place::Vocabulary::load(lrd::util::find_project_file("vocab/orb_vocab.lrdv"));
+};
+
+TEST(Tracker, LossIsAStateAndTrackingResumesWhenTheViewComesBack) {
+  CreptRig rig(lrd::tracking::TrackerParams{}.max_camera_speed);
   // A covered lens for three frames.
   for (int k = 0; k < 3; ++k) {
     const auto lost = rig.track_blank();
@@ -268,24 +281,6 @@ TEST(Tracker, ACameraThatTrulyMovesFasterThanItsSpeedLimitStaysTracked) {
   for (std::size_t k = 0; k < unlimited.size(); ++k) expect_placed(unlimited[k], k);
   EXPECT_EQ(implausible, 0);
 }
-
-lrd::tracking::TrackerParams speed_limited(double max_camera_speed) {
-  lrd::tracking::TrackerParams params;
-  params.max_camera_speed = max_camera_speed;
-  return params;
-}
-
-// With place recognition (to relocalize), after ten frames creeping 5 mm each (0.05 m/s).
-struct CreptRig : Rig {
-  explicit CreptRig(double max_camera_speed) : Rig(speed_limited(max_camera_speed)) {
-    tracker.set_place_recognition(&vocabulary, &database);
-    mapper.set_place_recognition(&vocabulary, &database);
-    for (int k = 0; k < 10; ++k) EXPECT_EQ(track(pose(0, 0, 0, -0.005 * k, 0, 0)).state, TrackingState::Ok);
-  }
-  lrd::map::KeyFrameDatabase database;
-  lrd::place::Vocabulary vocabulary =
-      lrd::place::Vocabulary::load(lrd::util::find_project_file("vocab/orb_vocab.lrdv"));
-};
 
 // The camera centres of frames `first`..`last` as the trajectory files will hold them.
 std::vector<Eigen::Vector3d> recorded_centres(const Rig& rig, std::uint64_t first, std::uint64_t last) {
