@@ -12,6 +12,7 @@
 #include "lrd/map/map.h"
 #include "lrd/mapping/local_mapper.h"
 #include "lrd/place/vocabulary.h"
+#include "lrd/tracking/camera_stride.h"
 #include "lrd/tracking/tracker.h"
 #include "lrd/util/project_files.h"
 #include "textured_plane.h"
@@ -287,7 +288,7 @@ std::vector<Eigen::Vector3d> recorded_centres(const Rig& rig, std::uint64_t firs
   std::vector<Eigen::Vector3d> out;
   for (const auto& r : rig.tracker.records())
     if (r.frame_id >= first && r.frame_id <= last && r.state == TrackingState::Ok && r.reference)
-      out.push_back(rig.map.resolve_pose(*r.reference, r.T_c_ref).inverse().translation());
+      out.push_back(lrd::tracking::recorded_centre(r, rig.map));
   return out;
 }
 

@@ -66,17 +66,18 @@ std::optional<double> Tracker::implausible_recovery(const data::Frame& frame) co
     return r.state == TrackingState::Ok && r.reference.has_value();
   });
   if (last == records_.rend() || frame.timestamp() - last->timestamp > kBriefLossSeconds) return std::nullopt;
-  const auto centre = [&](const FrameRecord& r) -> Eigen::Vector3d {
-    return map_.resolve_pose(*r.reference, r.T_c_ref).inverse().translation();
-  };
-  const double metres = (frame.T_wc().translation() - centre(*last)).norm();
-  if (metres <= params_.max_camera_speed * (frame.timestamp() - last->timestamp)) return std::nullopt;
+  const std::optional<double> metres = beyond_speed_limit(*last, frame);
   // Frames over the limit just before may have followed a person away from the camera: where the
   // first of them began its stride counts too (replace_frames_followed_before_loss).
-  if (followed_since_ && frame.timestamp() - followed_until_ <= kFollowedLossSeconds &&
-      (frame.T_wc().translation() - centre(*followed_since_)).norm() <=
-          params_.max_camera_speed * (frame.timestamp() - followed_since_->timestamp))
+  if (metres && followed_since_ && frame.timestamp() - followed_until_ <= kFollowedLossSeconds &&
+      !beyond_speed_limit(*followed_since_, frame))
     return std::nullopt;
+  return metres;
+}
+
+std::optional<double> Tracker::beyond_speed_limit(const FrameRecord& from, const data::Frame& frame) const {
+  const double metres = (frame.T_wc().translation() - recorded_centre(from, map_)).norm();
+  if (metres <= params_.max_camera_speed * (frame.timestamp() - from.timestamp)) return std::nullopt;
   return metres;
 }
 
@@ -153,20 +154,17 @@ void Tracker::replace_frames_followed_before_loss(const data::Frame& relocalized
   const FrameRecord from = *std::exchange(followed_since_, std::nullopt);
   const double lost_seconds = relocalized.timestamp() - followed_until_;
   if (lost_seconds > kFollowedLossSeconds) return;  // lost for longer: too far back to judge
-  const Eigen::Vector3d from_t_wc = map_.resolve_pose(*from.reference, from.T_c_ref).inverse().translation();
-  const double metres = (relocalized.T_wc().translation() - from_t_wc).norm();
-  const double seconds = relocalized.timestamp() - from.timestamp;
-  if (metres > params_.max_camera_speed * seconds) {
+  if (const auto metres = beyond_speed_limit(from, relocalized)) {
     spdlog::info(
         "frame {}: relocalized {:.2f} m from frame {}'s pose in {:.2f} s, over the speed limit: "
         "the frames between keep their poses",
-        relocalized.id(), metres, from.frame_id, seconds);
+        relocalized.id(), *metres, from.frame_id, relocalized.timestamp() - from.timestamp);
     return;
   }
   spdlog::info(
-      "frame {}: relocalized {:.2f} m from frame {}'s pose, {:.2f} s after the last frame it "
+      "frame {}: relocalized within the speed limit of frame {}'s pose, {:.2f} s after the last frame it "
       "flagged as too fast: the frames between placed again on the path",
-      relocalized.id(), metres, from.frame_id, lost_seconds);
+      relocalized.id(), from.frame_id, lost_seconds);
   replace_followed_frames(from, relocalized);
 }
 

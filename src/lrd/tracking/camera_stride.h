@@ -25,6 +25,9 @@ struct CameraStride {
   [[nodiscard]] double speed() const { return metres / seconds; }
 };
 
+// The camera centre of a tracked frame, where its reference keyframe stands now. Map mutex held.
+[[nodiscard]] Eigen::Vector3d recorded_centre(const FrameRecord& record, const map::Map& map);
+
 // From the oldest frame tracked within `window` seconds before `timestamp`, with no lost frame
 // since, to a camera centre `t_wc` at `timestamp`; each earlier frame placed where its reference
 // keyframe stands now (so a loop correction meanwhile is not a stride). Empty when that spans

@@ -54,6 +54,7 @@ bool Tracker::relocalize(data::Frame& frame) {
   struct Found {
     map::KeyFrame* kf;
     int inliers;
+    double metres;  // from the last tracked pose
     Eigen::Isometry3d T_cw;
     std::vector<map::MapPoint*> map_points;
   };
@@ -108,7 +109,7 @@ bool Tracker::relocalize(data::Frame& frame) {
     if (const auto metres = implausible_recovery(frame)) {
       spdlog::debug("frame {}: relocalization against keyframe {} is {:.2f} m from the last tracked pose",
                     frame.id(), kf->id(), *metres);
-      if (!far) far = Found{kf, good, frame.T_cw(), frame.map_points};
+      if (!far) far = Found{kf, good, *metres, frame.T_cw(), frame.map_points};
       continue;
     }
     reference_kf_ = kf;
@@ -124,7 +125,7 @@ bool Tracker::relocalize(data::Frame& frame) {
   frame.map_points = std::move(far->map_points);
   reference_kf_ = far->kf;
   spdlog::debug("frame {}: relocalized against keyframe {} ({} inliers), {:.2f} m from the last tracked pose",
-                frame.id(), far->kf->id(), far->inliers, implausible_recovery(frame).value_or(0.0));
+                frame.id(), far->kf->id(), far->inliers, far->metres);
   return true;
 }
 

@@ -105,6 +105,10 @@ class Tracker {
   // Metres from the last tracked pose to the frame's, when a camera within its speed limit cannot
   // have gone so far in the time it was lost (nothing after a second lost, or without a limit).
   [[nodiscard]] std::optional<double> implausible_recovery(const data::Frame& frame) const;
+  // Metres from the tracked frame `from` to `frame`, when more than the speed limit allows between
+  // their stamps.
+  [[nodiscard]] std::optional<double> beyond_speed_limit(const FrameRecord& from,
+                                                         const data::Frame& frame) const;
   bool track_with_motion_model(data::Frame& frame);
   bool track_local_map(data::Frame& frame);
   void update_local_keyframes(data::Frame& frame);
