@@ -41,6 +41,9 @@ Pipeline::Pipeline(const config::Config& cfg, const SystemParams& p, bool determ
       loop_closer = std::make_unique<loop::LoopCloser>(map, database, mapper, p.loop_closing, !deterministic);
       loop_closer->set_error_sink(&errors);
       loop_closer->set_loop_callback([this](const loop::LoopEvent& e) { publish_loop(e); });
+      tracker.set_crossing_callback([this](const tracking::MapCrossing& c) {
+        loop_closer->suggest_loop({c.lost_keyframe_id, c.found_keyframe_id, c.T_cw_lost_keyframe});
+      });
     }
   }
   mapper.set_keyframe_callback([this](map::KeyFrame* kf) {

@@ -5,6 +5,7 @@
 //   frame -> DynamicFrontEnd (segmentation thread, mask carry-over) -> ORB extraction -> Tracker
 //   Tracker -(geometry check)-> DynamicFrontEnd; Tracker -(keyframes)-> LocalMapper (thread)
 //   LocalMapper -(processed keyframes)-> LoopCloser (thread, + global BA thread)
+//   Tracker -(map crossings found by relocalization: suggested loops)-> LoopCloser
 //   System -(new keyframes with images)-> DenseMapper (thread)
 // Each thread reports its error to the shared util::ThreadErrors; callbacks from the threads
 // become events on the EventPublisher.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "lrd/map/keyframe.h"
@@ -15,6 +16,7 @@
 #include "lrd/tracking/camera_stride.h"
 #include "lrd/tracking/tracker.h"
 #include "lrd/util/project_files.h"
+#include "map_scene.h"
 #include "textured_plane.h"
 
 namespace {
@@ -333,12 +335,69 @@ TEST(Tracker, FramesKeptOverTheSpeedLimitArePlacedAgainByARelocalizationSoonAfte
               0.01);
 }
 
-// Creeps for ten frames, loses one frame, and comes back `step` metres on (0.2 s after the last
-// tracked frame).
-lrd::tracking::TrackOutcome come_back_after_a_loss(double max_camera_speed, double step) {
+// The view creeps for ten frames, goes out 6.5 cm a frame for three (0.65 m/s) and comes back in
+// one to 5 mm from where it went out. Returns the centres recorded for frames 9-13.
+std::vector<Eigen::Vector3d> out_and_back(double max_camera_speed) {
   CreptRig rig(max_camera_speed);
+  for (int j = 1; j <= 3; ++j)
+    EXPECT_EQ(rig.track(pose(0, 0, 0, -0.045 - 0.065 * j, 0, 0)).state, TrackingState::Ok);
+  EXPECT_EQ(rig.track(pose(0, 0, 0, -0.05, 0, 0)).state, TrackingState::Ok);
+  return recorded_centres(rig, 9, 13);
+}
+
+double largest_step(const std::vector<Eigen::Vector3d>& centres) {
+  double largest = 0.0;
+  for (std::size_t i = 1; i < centres.size(); ++i)
+    largest = std::max(largest, (centres[i] - centres[i - 1]).norm());
+  return largest;
+}
+
+TEST(Tracker, AWayOutAndBackFasterThanTheSpeedLimitIsPlacedAgainOnThePath) {
+  // Issue 22 (walking_xyz static, bench/results/divergence.md): tracking followed a person at just
+  // under the limit and came back to the still map in one frame, a 0.52 m step where the camera
+  // moved 1 cm. Under a 0.7 m/s limit (7 cm between these frames, 0.1 s apart) the step back
+  // (19 cm) is beyond it, and within it of frame 11: frame 12 is placed again between the two.
+  const auto limited = out_and_back(0.7);
+  ASSERT_EQ(limited.size(), 5u);
+  EXPECT_LT((limited[4] - Eigen::Vector3d(0.05, 0, 0)).norm(), 0.01);
+  EXPECT_LT((limited[3] - (limited[2] + limited[4]) / 2.0).norm(), 1e-3);
+  EXPECT_LT(largest_step(limited), 0.07);
+  // Without the limit the trajectory keeps the step.
+  const auto unlimited = out_and_back(0.0);
+  ASSERT_EQ(unlimited.size(), 5u);
+  EXPECT_GT(largest_step(unlimited), 0.18);
+}
+
+// Creeps for ten frames, loses one frame, and comes back `step` metres on (0.2 s after the last
+// tracked frame); with the map crossings tracking suggested, and what it recorded of the last
+// frame tracked before the loss.
+struct ComeBack {
+  lrd::tracking::TrackOutcome outcome;
+  std::vector<lrd::tracking::MapCrossing> crossings;
+  lrd::tracking::FrameRecord last_tracked;
+  std::uint64_t copy_id = 0;  // the rig (and its map) is gone
+};
+// `offset`: place recognition finds only a second copy of the view, its map moved by offset^-1
+// (as a map that drifted holds a place twice), added the way tracking adds keyframes.
+ComeBack come_back_after_a_loss(double max_camera_speed, double step,
+                                std::optional<Eigen::Isometry3d> offset = std::nullopt) {
+  CreptRig rig(max_camera_speed);
+  ComeBack c;
+  rig.tracker.set_crossing_callback([&c](const lrd::tracking::MapCrossing& m) { c.crossings.push_back(m); });
+  c.last_tracked = rig.tracker.records().back();
+  if (offset) {
+    lrd::data::Frame view = rig.plane.frame(1000, pose(0, 0, 0, -0.045, 0, 0));
+    view.set_pose(pose(0, 0, 0, -0.045, 0, 0) * *offset);
+    view.compute_bow(rig.vocabulary);
+    lrd::map::KeyFrame* copy = lrd::test::tracking_keyframe(rig.map, view);
+    lrd::test::register_keyframe(copy);
+    rig.database.add(copy);
+    c.copy_id = copy->id();
+    rig.database.erase(rig.map.first_keyframe());
+  }
   EXPECT_EQ(rig.track_blank().state, TrackingState::Lost);
-  return rig.track(pose(0, 0, 0, -0.045 - step, 0, 0));
+  c.outcome = rig.track(pose(0, 0, 0, -0.045 - step, 0, 0));
+  return c;
 }
 
 TEST(Tracker, ARelocalizationBeyondTheSpeedLimitAfterABriefLossGivesWayToTrackingFromTheLastPose) {
@@ -347,18 +406,45 @@ TEST(Tracker, ARelocalizationBeyondTheSpeedLimitAfterABriefLossGivesWayToTrackin
   // since (0.15 m in 0.2 s under a 0.3 m/s limit), tracking from the last pose is tried first;
   // where the place is held once, it finds the same pose.
   const Eigen::Isometry3d truth = pose(0, 0, 0, -0.195, 0, 0);
-  const auto limited = come_back_after_a_loss(0.3, 0.15);
-  ASSERT_EQ(limited.state, TrackingState::Ok);
-  EXPECT_FALSE(limited.relocalized);
-  EXPECT_LT(translation_error(*limited.T_cw, truth), 0.01);
-  // Within the limit (or without one) the relocalization stands.
-  const auto unlimited = come_back_after_a_loss(0.0, 0.15);
-  ASSERT_EQ(unlimited.state, TrackingState::Ok);
-  EXPECT_TRUE(unlimited.relocalized);
-  EXPECT_LT(translation_error(*unlimited.T_cw, truth), 0.01);
-  const auto within = come_back_after_a_loss(1.0, 0.15);
-  ASSERT_EQ(within.state, TrackingState::Ok);
-  EXPECT_TRUE(within.relocalized);
+  const ComeBack limited = come_back_after_a_loss(0.3, 0.15);
+  ASSERT_EQ(limited.outcome.state, TrackingState::Ok);
+  EXPECT_FALSE(limited.outcome.relocalized);
+  EXPECT_LT(translation_error(*limited.outcome.T_cw, truth), 0.01);
+  // Relocalized against the keyframe it was tracked against: no second copy, no loop suggested.
+  EXPECT_TRUE(limited.crossings.empty());
+  // Within the limit (or without one) the relocalization stands, and suggests nothing.
+  const ComeBack unlimited = come_back_after_a_loss(0.0, 0.15);
+  ASSERT_EQ(unlimited.outcome.state, TrackingState::Ok);
+  EXPECT_TRUE(unlimited.outcome.relocalized);
+  EXPECT_LT(translation_error(*unlimited.outcome.T_cw, truth), 0.01);
+  EXPECT_TRUE(unlimited.crossings.empty());
+  const ComeBack within = come_back_after_a_loss(1.0, 0.15);
+  ASSERT_EQ(within.outcome.state, TrackingState::Ok);
+  EXPECT_TRUE(within.outcome.relocalized);
+  EXPECT_TRUE(within.crossings.empty());
+}
+
+TEST(Tracker, ARelocalizationIntoASecondCopyOfThePlaceSuggestsTheLoopThatMergesThem) {
+  // Issue 22 (walking_xyz static, bench/results/divergence.md): the relocalization lands in a
+  // second copy of the place, 0.5 m away. Tracked from the last pose instead, the frame suggests
+  // the loop between the keyframe it was last tracked against and the one it relocalized against,
+  // with the first placed where the second's map says the camera is (LoopCloser verifies it).
+  const Eigen::Isometry3d offset = pose(0, 0, 0, 0.5, 0, 0), truth = pose(0, 0, 0, -0.06, 0, 0);
+  const ComeBack c = come_back_after_a_loss(0.3, 0.015, offset);
+  ASSERT_EQ(c.outcome.state, TrackingState::Ok);
+  EXPECT_FALSE(c.outcome.relocalized);
+  EXPECT_LT(translation_error(*c.outcome.T_cw, truth), 0.01);
+  ASSERT_EQ(c.crossings.size(), 1u);
+  const lrd::tracking::MapCrossing& crossing = c.crossings.front();
+  ASSERT_TRUE(c.last_tracked.reference.has_value());
+  EXPECT_EQ(crossing.lost_keyframe_id, *c.last_tracked.reference);
+  EXPECT_EQ(crossing.found_keyframe_id, c.copy_id);
+  // The last tracked frame, with its keyframe so placed, is where the copy puts the camera now.
+  EXPECT_LT(translation_error(c.last_tracked.T_c_ref * crossing.T_cw_lost_keyframe, truth * offset), 0.01);
+  // Without a speed limit the relocalization into the copy stands and suggests nothing.
+  const ComeBack unlimited = come_back_after_a_loss(0.0, 0.015, offset);
+  EXPECT_TRUE(unlimited.outcome.relocalized);
+  EXPECT_TRUE(unlimited.crossings.empty());
 }
 
 // A check that removes every keypoint in the left third of the image, as a moving person would.

@@ -87,11 +87,15 @@ LoopCloser::~LoopCloser() {
 }
 
 void LoopCloser::insert_keyframe(map::KeyFrame* kf) {
-  queue_.push(kf->id());
+  queue_.push({kf->id(), false, {}});
+}
+
+void LoopCloser::suggest_loop(const SuggestedLoop& loop) {
+  queue_.push({loop.keyframe_id, true, loop});
 }
 
 void LoopCloser::process_queued() {
-  queue_.drain([this](std::uint64_t id) { process(id); });
+  queue_.drain([this](const Work& work) { process(work); });
 }
 
 void LoopCloser::shutdown() {
@@ -114,13 +118,20 @@ LoopCloserStats LoopCloser::stats() const {
 void LoopCloser::run() {
   util::name_this_thread("lrd-loop");
   try {
-    while (const auto id = queue_.wait_pop()) process(*id);
+    while (const auto work = queue_.wait_pop()) process(*work);
   } catch (...) {
     errors_->capture("loop closing");
   }
 }
 
-void LoopCloser::process(std::uint64_t keyframe_id) {
+std::optional<LoopDetection> LoopCloser::find_loop(map::KeyFrame* kf, const Work& work) {
+  if (!work.suggested) return detector_.detect(kf);
+  map::KeyFrame* loop_kf = map_.keyframe(work.loop.loop_keyframe_id);
+  if (loop_kf == nullptr || detector_.closed_since(kf)) return std::nullopt;
+  return detector_.verify_suggested(kf, loop_kf, work.loop.T_cw_guess);
+}
+
+void LoopCloser::process(const Work& work) {
   util::check_fault_point("loop_closing");
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<LoopEvent> event;
@@ -128,12 +139,12 @@ void LoopCloser::process(std::uint64_t keyframe_id) {
     std::lock_guard lock(map_.mutex());
     // Between two keyframes this thread keeps no map pointers (the detector keeps ids).
     reclamation_.quiescent();
-    map::KeyFrame* kf = map_.keyframe(keyframe_id);
+    map::KeyFrame* kf = map_.keyframe(work.keyframe_id);
     if (kf == nullptr) return;
     // Protected from culling while it is examined (ORB-SLAM2's SetNotErase).
     kf->set_not_erase(true);
     try {
-      const auto loop = detector_.detect(kf);
+      const auto loop = find_loop(kf, work);
       if (loop && loop->T_cw_corrected.matrix().allFinite()) {
         const double detection_seconds = seconds_since(t0);
         const auto t1 = std::chrono::steady_clock::now();
@@ -141,6 +152,7 @@ void LoopCloser::process(std::uint64_t keyframe_id) {
         if (event) {
           event->detection_seconds = detection_seconds;
           event->correction_seconds = seconds_since(t1);
+          event->suggested = work.suggested;
           detector_.loop_closed(kf);
         } else {
           std::lock_guard slock(stats_mutex_);
@@ -162,9 +174,9 @@ void LoopCloser::process(std::uint64_t keyframe_id) {
     if (event) stats_.loops.push_back(*event);
   }
   if (event) {
-    spdlog::info("loop closed: frame {} (keyframe {}) matches keyframe {} with {} inliers; moved {:.3f} m",
+    spdlog::info("loop closed: frame {} (keyframe {}) matches keyframe {} with {} inliers; moved {:.3f} m{}",
                  event->frame_id, event->keyframe_id, event->loop_keyframe_id, event->inliers,
-                 event->correction_m);
+                 event->correction_m, event->suggested ? " (suggested by a relocalization)" : "");
     if (loop_callback_) loop_callback_(*event);
     if (params_.global_ba) start_global_ba(event->keyframe_id);
   }

@@ -10,10 +10,14 @@
 //     or that the graph cannot close, is refused before anything moves; loop_solution.h);
 //  4. global bundle adjustment refines the whole map in its own thread and is merged without
 //     stopping tracking (optim/global_bundle_adjuster.h).
+// Tracking may suggest a loop (suggest_loop): relocalized where the camera cannot have gone since
+// it was lost, it found the same place held twice by a map that drifted; verified, the loop
+// merges the two copies, and the frames before the loss move with their keyframes.
 // Trajectories follow automatically: frames are stored relative to keyframes.
 //
 // Threaded (default) it runs on its own thread; in lock-step mode (deterministic runs)
 // process_queued() does the same work, global BA included, in the caller's thread.
+#include <Eigen/Geometry>
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
@@ -78,6 +82,17 @@ struct LoopEvent {
   // The solve with the fusion's links tore the odometry or left the loop open; the map took the
   // dry run's solution.
   bool dry_run_solution = false;
+  bool suggested = false;  // suggested by tracking's relocalization (suggest_loop), not detected
+};
+
+// A loop suggested by tracking: relocalized into `loop_keyframe_id`'s part of the map where the
+// camera cannot have gone since it was lost, the camera was last tracked against `keyframe_id`;
+// `T_cw_guess` is that keyframe's pose in the loop's part, assuming the camera stood still
+// meanwhile.
+struct SuggestedLoop {
+  std::uint64_t keyframe_id = 0;
+  std::uint64_t loop_keyframe_id = 0;
+  Eigen::Isometry3d T_cw_guess = Eigen::Isometry3d::Identity();
 };
 
 // One global bundle adjustment after a loop (its own thread when threaded).
@@ -115,6 +130,9 @@ class LoopCloser {
   void set_loop_callback(LoopCallback callback) { loop_callback_ = std::move(callback); }
   // From local mapping (any thread; the map mutex must not be held).
   void insert_keyframe(map::KeyFrame* kf);
+  // From tracking (any thread, the map mutex may be held): verified and closed in turn with the
+  // keyframes (LoopDetector::verify_suggested); stale once a loop was closed at its keyframe.
+  void suggest_loop(const SuggestedLoop& loop);
   // Lock-step mode: processes what is queued now (and runs global BA to the end).
   void process_queued();
   // Processes what is queued, waits for a running global BA and stops the threads. Idempotent.
@@ -122,8 +140,16 @@ class LoopCloser {
   [[nodiscard]] LoopCloserStats stats() const;
 
  private:
+  // A keyframe local mapping processed, or a suggested loop.
+  struct Work {
+    std::uint64_t keyframe_id = 0;
+    bool suggested = false;
+    SuggestedLoop loop;  // when suggested
+  };
   void run();
-  void process(std::uint64_t keyframe_id);
+  void process(const Work& work);
+  // Detects (or verifies the suggested) loop at `kf` (map mutex held).
+  [[nodiscard]] std::optional<LoopDetection> find_loop(map::KeyFrame* kf, const Work& work);
   // Empty when the loop is rejected (agrees_with_map, correction_is_plausible); the map is then
   // untouched.
   std::optional<LoopEvent> correct_loop(const LoopDetection& loop);
@@ -146,7 +172,7 @@ class LoopCloser {
   util::ThreadErrors own_errors_;
   util::ThreadErrors* errors_ = &own_errors_;
   LoopCallback loop_callback_;
-  util::WorkQueue<std::uint64_t> queue_;  // keyframe ids: one may be removed while queued
+  util::WorkQueue<Work> queue_;  // by keyframe id: one may be removed while queued
   map::ReclamationMembership reclamation_;
 
   mutable std::mutex stats_mutex_;

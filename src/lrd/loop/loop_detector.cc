@@ -10,9 +10,52 @@
 #include "lrd/map/map_point.h"
 #include "lrd/match/bow_matcher.h"
 #include "lrd/match/orb_matcher.h"
+#include "lrd/optim/pose_optimizer.h"
 #include "lrd/place/vocabulary.h"
 
 namespace lrd::loop {
+
+namespace {
+// Projection radius (x scale) for a suggested loop's first search: the camera moved while
+// tracking was lost, so the guess is a few centimetres and a degree or two off.
+constexpr float kSuggestedRadius = 20.0f;
+
+// The map points of `kf` and its covisible neighbours, each once, by id.
+std::vector<map::MapPoint*> neighbourhood_points(map::KeyFrame& kf) {
+  std::vector<map::KeyFrame*> kfs = kf.ordered_covisibles();
+  kfs.push_back(&kf);
+  std::sort(kfs.begin(), kfs.end(), map::ById{});
+  std::vector<map::MapPoint*> points;
+  for (map::KeyFrame* k : kfs) {
+    if (k->is_bad()) continue;
+    for (map::MapPoint* mp : k->map_points())
+      if (mp != nullptr && !mp->is_bad()) points.push_back(mp);
+  }
+  std::sort(points.begin(), points.end(), map::ById{});
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  return points;
+}
+
+// Motion-only BA of `kf` against `matches` (per keypoint) from `T_cw`; outliers leave `matches`.
+optim::PoseOptimizationResult refine_pose(const map::KeyFrame& kf, const Eigen::Isometry3d& T_cw,
+                                          std::vector<map::MapPoint*>& matches) {
+  const data::Frame& f = kf.features();
+  std::vector<optim::PoseObservation> obs;
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < matches.size(); ++i) {
+    if (matches[i] == nullptr) continue;
+    const cv::KeyPoint& kp = f.undistorted()[i];
+    obs.push_back({matches[i]->position(), Eigen::Vector2d(kp.pt.x, kp.pt.y), f.u_right(i),
+                   f.inv_level_sigma2()[static_cast<std::size_t>(kp.octave)]});
+    index.push_back(i);
+  }
+  if (obs.size() < 3) return {T_cw, {}, 0};
+  optim::PoseOptimizationResult result = optim::optimize_pose(f.camera(), obs, T_cw);
+  for (std::size_t k = 0; k < index.size(); ++k)
+    if (result.outlier[k]) matches[index[k]] = nullptr;
+  return result;
+}
+}  // namespace
 
 LoopDetector::LoopDetector(map::KeyFrameDatabase& database, LoopDetectorParams params)
     : database_(database), params_(params) {}
@@ -21,6 +64,10 @@ void LoopDetector::loop_closed(const map::KeyFrame* kf) {
   last_loop_kf_ = kf->id();
   any_loop_ = true;
   groups_.clear();
+}
+
+bool LoopDetector::closed_since(const map::KeyFrame* kf) const {
+  return any_loop_ && last_loop_kf_ >= kf->id();
 }
 
 std::optional<LoopDetection> LoopDetector::detect(map::KeyFrame* kf) {
@@ -120,21 +167,37 @@ std::optional<LoopDetection> LoopDetector::verify(map::KeyFrame* kf, map::KeyFra
   for (std::size_t c = 0; c < corr.size(); ++c)
     if (ransac.inlier[c]) d.matches[corr_index[c]] = bow_matches[corr_index[c]];
   // The loop side's neighbourhood, projected at the corrected pose for more matches.
-  std::vector<map::KeyFrame*> loop_kfs = candidate->ordered_covisibles();
-  loop_kfs.push_back(candidate);
-  std::sort(loop_kfs.begin(), loop_kfs.end(), map::ById{});
-  for (map::KeyFrame* k : loop_kfs) {
-    if (k->is_bad()) continue;
-    for (map::MapPoint* mp : k->map_points())
-      if (mp != nullptr && !mp->is_bad()) d.loop_points.push_back(mp);
-  }
-  std::sort(d.loop_points.begin(), d.loop_points.end(), map::ById{});
-  d.loop_points.erase(std::unique(d.loop_points.begin(), d.loop_points.end()), d.loop_points.end());
+  d.loop_points = neighbourhood_points(*candidate);
   const match::OrbMatcher projector({0.75f, false});
   projector.search_by_projection(*kf, d.T_cw_corrected, d.loop_points, d.matches, 10.0f);
   d.match_count = static_cast<int>(
       std::count_if(d.matches.begin(), d.matches.end(), [](auto* p) { return p != nullptr; }));
   spdlog::debug("loop check keyframe {} - {}: {} matches after projection", kf->id(), candidate->id(),
+                d.match_count);
+  if (d.match_count < params_.min_matches) return std::nullopt;
+  return d;
+}
+
+std::optional<LoopDetection> LoopDetector::verify_suggested(map::KeyFrame* kf, map::KeyFrame* candidate,
+                                                            const Eigen::Isometry3d& T_cw_guess) const {
+  if (kf->is_bad() || candidate->is_bad() || kf == candidate) return std::nullopt;
+  LoopDetection d;
+  d.current = kf;
+  d.loop = candidate;
+  d.loop_points = neighbourhood_points(*candidate);
+  d.matches.assign(kf->size(), nullptr);
+  const match::OrbMatcher projector({0.75f, false});
+  projector.search_by_projection(*kf, T_cw_guess, d.loop_points, d.matches, kSuggestedRadius);
+  const optim::PoseOptimizationResult first = refine_pose(*kf, T_cw_guess, d.matches);
+  d.ransac_inliers = first.inliers;
+  spdlog::debug("suggested loop keyframe {} - {}: {} inliers at the guess", kf->id(), candidate->id(),
+                first.inliers);
+  if (first.inliers < params_.min_ransac_inliers) return std::nullopt;
+  projector.search_by_projection(*kf, first.T_cw, d.loop_points, d.matches, 10.0f);
+  const optim::PoseOptimizationResult second = refine_pose(*kf, first.T_cw, d.matches);
+  d.match_count = second.inliers;
+  d.T_cw_corrected = geometry::orthonormalized(second.T_cw);
+  spdlog::debug("suggested loop keyframe {} - {}: {} inliers after projection", kf->id(), candidate->id(),
                 d.match_count);
   if (d.match_count < params_.min_matches) return std::nullopt;
   return d;

@@ -7,6 +7,8 @@
 //  3. geometry: BoW matches between the two keyframes' map points, a rigid transform by RANSAC,
 //     then the candidate's neighbourhood projected at the corrected pose for more matches; a loop
 //     needs at least `min_matches` of them.
+// A loop may also be suggested (LoopCloser::suggest_loop: tracking relocalized beyond where the
+// camera can have gone, the map holding the place twice); verify_suggested checks it.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <optional>
@@ -48,8 +50,17 @@ class LoopDetector {
   LoopDetector(map::KeyFrameDatabase& database, LoopDetectorParams params);
   // Call under Map::mutex() with each new keyframe (BoW computed), in keyframe order.
   std::optional<LoopDetection> detect(map::KeyFrame* kf);
+  // A loop suggested from outside: `kf` is on the map the camera left, `T_cw_guess` where
+  // `candidate`'s map puts it. Verified as a detected loop is, the consistency over keyframes
+  // aside (the relocalization that suggested it stands for that): the candidate's neighbourhood
+  // projected into `kf` at the guess, the pose refined by motion-only BA on those matches with
+  // at least `min_ransac_inliers` inliers, projected again; `min_matches` inliers needed.
+  [[nodiscard]] std::optional<LoopDetection> verify_suggested(map::KeyFrame* kf, map::KeyFrame* candidate,
+                                                              const Eigen::Isometry3d& T_cw_guess) const;
   // After a loop was closed at `kf`: the next loop waits min_keyframes_between keyframes.
   void loop_closed(const map::KeyFrame* kf);
+  // A loop was closed at `kf` or at a keyframe after it (a suggestion for `kf` is then stale).
+  [[nodiscard]] bool closed_since(const map::KeyFrame* kf) const;
 
  private:
   struct ConsistentGroup {

@@ -172,7 +172,8 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
                           {"pose_graph_edges", e.pose_graph_edges},
                           {"detection_ms", 1e3 * e.detection_seconds},
                           {"correction_ms", 1e3 * e.correction_seconds},
-                          {"dry_run_solution", e.dry_run_solution}});
+                          {"dry_run_solution", e.dry_run_solution},
+                          {"suggested", e.suggested}});
   if (r.has_ground_truth) {
     j["ate"] = {{"rmse", r.ate_rmse},
                 {"mean", r.ate_mean},

@@ -7,7 +7,9 @@
 // corrections of the map.
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "lrd/data/frame.h"
@@ -52,6 +54,16 @@ struct TrackOutcome {
   std::size_t local_keyframes = 0, local_points = 0;
 };
 
+// Tracking relocalized, a brief loss after it was last tracked against keyframe `lost_keyframe_id`,
+// against `found_keyframe_id` where the camera cannot have gone meanwhile: the map may hold the
+// place twice. `T_cw_lost_keyframe` puts the lost keyframe where the relocalization says the
+// camera is (Tracker::suggest_crossing; the loop closer verifies it, LoopCloser::suggest_loop).
+struct MapCrossing {
+  std::uint64_t lost_keyframe_id = 0;
+  std::uint64_t found_keyframe_id = 0;
+  Eigen::Isometry3d T_cw_lost_keyframe = Eigen::Isometry3d::Identity();
+};
+
 class Tracker {
  public:
   Tracker(map::Map& map, mapping::LocalMapper& mapper, TrackerParams params);
@@ -69,6 +81,9 @@ class Tracker {
     vocabulary_ = vocabulary;
     database_ = database;
   }
+  // Where each map crossing goes (called in the tracking thread, map mutex held); none: dropped.
+  using CrossingCallback = std::function<void(const MapCrossing&)>;
+  void set_crossing_callback(CrossingCallback callback) { crossing_callback_ = std::move(callback); }
   // A map was loaded (map/map_file.h): frames relocalize against it until one is placed, instead
   // of starting a new map. Call before the first frame.
   void start_in_loaded_map() { state_ = TrackingState::NotLocalized; }
@@ -105,6 +120,10 @@ class Tracker {
   // Metres from the last tracked pose to the frame's, when a camera within its speed limit cannot
   // have gone so far in the time it was lost (nothing after a second lost, or without a limit).
   [[nodiscard]] std::optional<double> implausible_recovery(const data::Frame& frame) const;
+  // The last frame tracked against a keyframe (null: none yet).
+  [[nodiscard]] const FrameRecord* last_tracked_record() const;
+  // Tells the crossing callback that `frame`, relocalized against `found`, crossed the map.
+  void suggest_crossing(const data::Frame& frame, const map::KeyFrame& found) const;
   // Metres from the tracked frame `from` to `frame`, when more than the speed limit allows between
   // their stamps.
   [[nodiscard]] std::optional<double> beyond_speed_limit(const FrameRecord& from,
@@ -131,6 +150,9 @@ class Tracker {
   void check_camera_speed(data::Frame& frame);
   bool track_again_from(data::Frame& frame, const FrameRecord& from);
   void replace_followed_frames(const FrameRecord& from, const data::Frame& found);
+  // A step from the last frame beyond the speed limit, back within it of an earlier frame: the
+  // frames between are placed again on the path from that one (true when they were).
+  bool replace_frames_before_a_return(const data::Frame& frame);
   // A relocalization soon after frames the speed check flagged and kept places them on the path
   // from where they began to follow to the relocalized pose, when the camera could make it.
   void replace_frames_followed_before_loss(const data::Frame& relocalized);
@@ -185,6 +207,7 @@ class Tracker {
   std::optional<FrameRecord> followed_since_;
   double followed_until_ = 0.0;
   bool localization_only_ = false;
+  CrossingCallback crossing_callback_;
 };
 
 }  // namespace lrd::tracking
