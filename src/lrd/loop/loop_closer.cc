@@ -127,7 +127,8 @@ void LoopCloser::run() {
 std::optional<LoopDetection> LoopCloser::find_loop(map::KeyFrame* kf, const Work& work) {
   if (!work.suggested) return detector_.detect(kf);
   map::KeyFrame* loop_kf = map_.keyframe(work.loop.loop_keyframe_id);
-  if (loop_kf == nullptr || detector_.closed_since(kf)) return std::nullopt;
+  // Stale (a loop was closed at it since), or the same copy: nothing to merge, nothing to count.
+  if (loop_kf == nullptr || detector_.closed_since(kf) || kf->weight(loop_kf) > 0) return std::nullopt;
   return detector_.verify_suggested(kf, loop_kf, work.loop.T_cw_guess);
 }
 

@@ -159,37 +159,44 @@ bool Tracker::replace_frames_before_a_return(const data::Frame& frame) {
   // Tracking can follow a person at just under the limit and come back to the map that stood still
   // in one frame (walking_xyz static: frames 795-799 5 cm a frame, then 0.52 m back at frame 800,
   // 1 cm in truth; bench/results/divergence.md): a stride measured over 0.2 s hides a way out and
-  // back. A step from the last frame beyond the limit, back towards an earlier frame and landing
-  // within the limit of it (unbroken tracking, within a second), means the frames between went out
-  // and came back faster than a camera can: they are placed again on the path from that frame to
-  // this one.
-  if (records_.empty()) return false;
-  const FrameRecord& last = records_.back();
-  if (last.state != TrackingState::Ok || !last.reference) return false;
-  const std::optional<double> step = beyond_speed_limit(last, frame);
+  // back. A step from the last tracked frame beyond the limit, turning back towards an earlier
+  // frame and landing within the limit of it (within a second), with more inliers than the last
+  // frame (the map agrees more: back on what stood still, not onto another person), means the
+  // frames between went out and came back faster than a camera can: they are placed again on the
+  // path from that frame to this one.
+  const FrameRecord* last = last_tracked_record();
+  if (last == nullptr || inliers_ <= last->inliers) return false;
+  const std::optional<double> step = beyond_speed_limit(*last, frame);
   if (!step) return false;
-  for (auto it = std::next(records_.rbegin()); it != records_.rend(); ++it) {
-    if (it->state != TrackingState::Ok || !it->reference ||
-        frame.timestamp() - it->timestamp > kBriefLossSeconds)
-      return false;
+  std::optional<FrameRecord> from = return_anchor(frame, *last);
+  if (!from) return false;
+  ++implausible_motions_;
+  spdlog::info(
+      "frame {}: tracking came back {:.2f} m from frame {} ({} inliers, {} there), within the speed limit "
+      "of frame {}: the frames between followed something that moves, placed again on the path",
+      frame.id(), *step, last->frame_id, inliers_, last->inliers, from->frame_id);
+  replace_followed_frames(*from, frame);
+  restarted_motion_ = true;
+  followed_since_.reset();
+  return true;
+}
+
+std::optional<FrameRecord> Tracker::return_anchor(const data::Frame& frame, const FrameRecord& last) const {
+  // Where frames over the limit began to follow, when the camera can have gone from there.
+  if (followed_since_ && !beyond_speed_limit(*followed_since_, frame)) return followed_since_;
+  // Else the latest frame before `last` it can have come from, the step turning back towards it:
+  // a camera truly moving faster than its limit keeps its direction.
+  const Eigen::Vector3d at_last = recorded_centre(last, map_);
+  for (auto it = records_.rbegin(); it != records_.rend(); ++it) {
+    if (frame.timestamp() - it->timestamp > kBriefLossSeconds) return std::nullopt;
+    if (it->frame_id >= last.frame_id || it->state != TrackingState::Ok || !it->reference) continue;
     if (beyond_speed_limit(*it, frame)) continue;
-    // Back, not on: a camera truly moving faster than its limit keeps its direction.
-    const Eigen::Vector3d at_last = recorded_centre(last, map_);
     const Eigen::Vector3d out = at_last - recorded_centre(*it, map_),
                           back = frame.T_wc().translation() - at_last;
-    if (out.dot(back) > -kReturnCosine * out.norm() * back.norm()) return false;
-    ++implausible_motions_;
-    spdlog::info(
-        "frame {}: tracking came back {:.2f} m from the last frame, within the speed limit of frame {}: the "
-        "frames between followed something that moves, placed again on the path",
-        frame.id(), *step, it->frame_id);
-    const FrameRecord from = *it;
-    replace_followed_frames(from, frame);
-    restarted_motion_ = true;
-    followed_since_.reset();
-    return true;
+    if (out.dot(back) > -kReturnCosine * out.norm() * back.norm()) return std::nullopt;
+    return *it;
   }
-  return false;
+  return std::nullopt;
 }
 
 void Tracker::replace_followed_frames(const FrameRecord& from, const data::Frame& found) {

@@ -150,9 +150,12 @@ class Tracker {
   void check_camera_speed(data::Frame& frame);
   bool track_again_from(data::Frame& frame, const FrameRecord& from);
   void replace_followed_frames(const FrameRecord& from, const data::Frame& found);
-  // A step from the last frame beyond the speed limit, back within it of an earlier frame: the
-  // frames between are placed again on the path from that one (true when they were).
+  // A step from the last tracked frame beyond the speed limit, back within it of an earlier frame
+  // and with more inliers: the frames between are placed again on the path from that one (true
+  // when they were).
   bool replace_frames_before_a_return(const data::Frame& frame);
+  [[nodiscard]] std::optional<FrameRecord> return_anchor(const data::Frame& frame,
+                                                         const FrameRecord& last) const;
   // A relocalization soon after frames the speed check flagged and kept places them on the path
   // from where they began to follow to the relocalized pose, when the camera could make it.
   void replace_frames_followed_before_loss(const data::Frame& relocalized);
