@@ -39,20 +39,9 @@ std::vector<map::MapPoint*> neighbourhood_points(map::KeyFrame& kf) {
 // Motion-only BA of `kf` against `matches` (per keypoint) from `T_cw`; outliers leave `matches`.
 optim::PoseOptimizationResult refine_pose(const map::KeyFrame& kf, const Eigen::Isometry3d& T_cw,
                                           std::vector<map::MapPoint*>& matches) {
-  const data::Frame& f = kf.features();
-  std::vector<optim::PoseObservation> obs;
-  std::vector<std::size_t> index;
-  for (std::size_t i = 0; i < matches.size(); ++i) {
-    if (matches[i] == nullptr) continue;
-    const cv::KeyPoint& kp = f.undistorted()[i];
-    obs.push_back({matches[i]->position(), Eigen::Vector2d(kp.pt.x, kp.pt.y), f.u_right(i),
-                   f.inv_level_sigma2()[static_cast<std::size_t>(kp.octave)]});
-    index.push_back(i);
-  }
-  if (obs.size() < 3) return {T_cw, {}, 0};
-  optim::PoseOptimizationResult result = optim::optimize_pose(f.camera(), obs, T_cw);
-  for (std::size_t k = 0; k < index.size(); ++k)
-    if (result.outlier[k]) matches[index[k]] = nullptr;
+  optim::PoseOptimizationResult result = optim::optimize_frame_pose(kf.features(), matches, T_cw);
+  for (std::size_t i = 0; i < result.outlier.size(); ++i)
+    if (result.outlier[i]) matches[i] = nullptr;
   return result;
 }
 }  // namespace

@@ -1,8 +1,12 @@
 #include "lrd/optim/pose_optimizer.h"
 
 #include <cmath>
+#include <utility>
 
+#include "lrd/data/frame.h"
 #include "lrd/geometry/se3.h"
+#include "lrd/map/keyframe.h"
+#include "lrd/map/map_point.h"
 
 namespace lrd::optim {
 namespace {
@@ -136,6 +140,26 @@ PoseOptimizationResult optimize_pose(const camera::PinholeCamera& cam,
     if (inliers < params.min_inliers) break;
   }
   result.T_cw = geometry::orthonormalized(T);
+  return result;
+}
+
+PoseOptimizationResult optimize_frame_pose(const data::Frame& frame,
+                                           const std::vector<map::MapPoint*>& matches,
+                                           const Eigen::Isometry3d& T_cw, const PoseOptimizerParams& params) {
+  std::vector<PoseObservation> obs;
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < matches.size(); ++i) {
+    if (matches[i] == nullptr) continue;
+    const cv::KeyPoint& kp = frame.undistorted()[i];
+    obs.push_back({matches[i]->position(), Eigen::Vector2d(kp.pt.x, kp.pt.y), frame.u_right(i),
+                   frame.inv_level_sigma2()[static_cast<std::size_t>(kp.octave)]});
+    index.push_back(i);
+  }
+  if (obs.size() < 3) return {T_cw, {}, 0};
+  PoseOptimizationResult result = optimize_pose(frame.camera(), obs, T_cw, params);
+  std::vector<bool> per_keypoint(matches.size(), false);
+  for (std::size_t k = 0; k < index.size(); ++k) per_keypoint[index[k]] = result.outlier[k];
+  result.outlier = std::move(per_keypoint);
   return result;
 }
 

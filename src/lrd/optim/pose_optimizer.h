@@ -9,6 +9,13 @@
 
 #include "lrd/camera/pinhole_camera.h"
 
+namespace lrd::data {
+class Frame;
+}
+namespace lrd::map {
+class MapPoint;
+}
+
 namespace lrd::optim {
 
 struct PoseObservation {
@@ -37,5 +44,14 @@ struct PoseOptimizationResult {
                                                    const std::vector<PoseObservation>& observations,
                                                    const Eigen::Isometry3d& T_cw_initial,
                                                    const PoseOptimizerParams& params = {});
+
+// The same for a frame's keypoints: `matches` holds one slot per keypoint (null: unmatched), each
+// observed at its undistorted position, virtual right coordinate and pyramid level. The result's
+// `outlier` is per keypoint (false where unmatched); empty, with `T_cw` and no inliers, when fewer
+// than three keypoints are matched.
+[[nodiscard]] PoseOptimizationResult optimize_frame_pose(const data::Frame& frame,
+                                                         const std::vector<map::MapPoint*>& matches,
+                                                         const Eigen::Isometry3d& T_cw,
+                                                         const PoseOptimizerParams& params = {});
 
 }  // namespace lrd::optim

@@ -314,21 +314,11 @@ void Tracker::let_go_of_removed_objects() {
 }
 
 int Tracker::optimize_pose(data::Frame& frame) {
-  std::vector<optim::PoseObservation> obs;
-  std::vector<std::size_t> index;
-  const camera::PinholeCamera& cam = frame.camera();
-  for (std::size_t i = 0; i < frame.size(); ++i) {
-    map::MapPoint* mp = frame.map_points[i];
-    if (mp == nullptr) continue;
-    const cv::KeyPoint& kp = frame.undistorted()[i];
-    obs.push_back({mp->position(), Eigen::Vector2d(kp.pt.x, kp.pt.y), frame.u_right(i),
-                   frame.inv_level_sigma2()[static_cast<std::size_t>(kp.octave)]});
-    index.push_back(i);
-  }
-  if (obs.size() < 3) return 0;
-  const auto result = optim::optimize_pose(cam, obs, frame.T_cw(), params_.pose);
+  const auto result = optim::optimize_frame_pose(frame, frame.map_points, frame.T_cw(), params_.pose);
+  if (result.outlier.empty()) return 0;
   frame.set_pose(result.T_cw);
-  for (std::size_t k = 0; k < index.size(); ++k) frame.outliers[index[k]] = result.outlier[k];
+  for (std::size_t i = 0; i < frame.size(); ++i)
+    if (frame.map_points[i] != nullptr) frame.outliers[i] = result.outlier[i];
   return result.inliers;
 }
 
