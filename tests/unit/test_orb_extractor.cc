@@ -11,6 +11,7 @@
 #include <random>
 
 #include "lrd/camera/pinhole_camera.h"
+#include "lrd/features/gaussian_smoother.h"
 #include "lrd/features/keypoint_undistorter.h"
 #include "lrd/features/orb_extractor.h"
 #include "lrd/features/quadtree_distributor.h"
@@ -376,4 +377,41 @@ TEST(OrbUndistortion, Tum3IsTheIdentity) {
     EXPECT_EQ(out[i].octave, kps[i].octave);
   }
   EXPECT_EQ(undistorter.undistorted_bounds(), cv::Rect2f(0.0f, 0.0f, 640.0f, 480.0f));
+}
+
+// The smoother steered BRIEF samples from: whichever copy of its loops runs on this CPU (AVX2 or
+// the SSE2 baseline), the result is the fixed-point 7x7 filter of its contract, pixel for pixel,
+// on widths that leave every kind of tail for the vector loops.
+TEST(GaussianSmoother, EveryPixelIsTheFixedPointFilterOfItsContract) {
+  constexpr auto& taps = lrd::features::GaussianSmoother::kTaps;
+  std::mt19937 rng(23);
+  std::uniform_int_distribution<int> value(0, 255);
+  lrd::features::GaussianSmoother smoother;
+  for (const cv::Size size : {cv::Size(640, 480), cv::Size(37, 29), cv::Size(7, 7), cv::Size(101, 8)}) {
+    SCOPED_TRACE(size);
+    cv::Mat src(size, CV_8UC1);
+    for (int v = 0; v < src.rows; ++v)
+      for (int u = 0; u < src.cols; ++u) src.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>(value(rng));
+    cv::Mat dst;
+    smoother.smooth(src, dst);
+    ASSERT_EQ(dst.type(), CV_8UC1);
+    ASSERT_EQ(dst.size(), src.size());
+    int wrong = 0;
+    for (int v = 0; v < src.rows; ++v)
+      for (int u = 0; u < src.cols; ++u) {
+        int expected = src.at<std::uint8_t>(v, u);  // the 3-pixel frame is copied
+        if (v >= 3 && v < src.rows - 3 && u >= 3 && u < src.cols - 3) {
+          unsigned sum = 0;
+          for (int du = -3; du <= 3; ++du) {
+            unsigned column = 0;  // vertical pass first, rounded to 8 bits
+            for (int dv = -3; dv <= 3; ++dv)
+              column += static_cast<unsigned>(taps[std::abs(dv)]) * src.at<std::uint8_t>(v + dv, u + du);
+            sum += static_cast<unsigned>(taps[std::abs(du)]) * ((column + 128u) >> 8);
+          }
+          expected = static_cast<int>((sum + 128u) >> 8);
+        }
+        wrong += dst.at<std::uint8_t>(v, u) != expected;
+      }
+    EXPECT_EQ(wrong, 0);
+  }
 }

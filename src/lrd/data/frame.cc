@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "lrd/place/vocabulary.h"
 #include "lrd/util/error.h"
@@ -98,6 +99,18 @@ void Frame::compute_bow(const place::Vocabulary& vocabulary) {
   vocabulary.transform(descriptors_, bow, bow_features, kBowLevelsUp);
 }
 
+Frame::Words Frame::words(const place::Vocabulary& vocabulary) const {
+  Words w;
+  vocabulary.transform(descriptors_, w.bow, w.features, kBowLevelsUp);
+  return w;
+}
+
+void Frame::set_words(Words words) {
+  if (!bow.empty()) return;
+  bow = std::move(words.bow);
+  bow_features = std::move(words.features);
+}
+
 void Frame::remove_keypoints(const std::vector<bool>& drop) {
   const std::size_t n = keypoints_.size();
   if (drop.size() != n) throw Error("frame: remove_keypoints needs one flag per keypoint");
@@ -174,6 +187,13 @@ bool Frame::grid_cell(const cv::Point2f& p, int& col, int& row) const {
 std::vector<std::size_t> Frame::features_in_area(float x, float y, float radius, int min_level,
                                                  int max_level) const {
   std::vector<std::size_t> out;
+  features_in_area(x, y, radius, min_level, max_level, out);
+  return out;
+}
+
+void Frame::features_in_area(float x, float y, float radius, int min_level, int max_level,
+                             std::vector<std::size_t>& out) const {
+  out.clear();
   const int c0 = std::max(0, static_cast<int>(std::floor((x - radius - bounds_.x) * cell_w_inv_)));
   const int c1 =
       std::min(kGridCols - 1, static_cast<int>(std::floor((x + radius - bounds_.x) * cell_w_inv_)));
@@ -192,7 +212,6 @@ std::vector<std::size_t> Frame::features_in_area(float x, float y, float radius,
     }
   }
   std::sort(out.begin(), out.end());  // deterministic order whatever the grid traversal
-  return out;
 }
 
 std::optional<Eigen::Vector3d> Frame::unproject_world(std::size_t i) const {

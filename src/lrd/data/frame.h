@@ -84,6 +84,9 @@ class Frame {
   // as ORB-SLAM2) of (x, y), on pyramid levels [min_level, max_level] (< 0: no bound).
   [[nodiscard]] std::vector<std::size_t> features_in_area(float x, float y, float radius, int min_level = -1,
                                                           int max_level = -1) const;
+  // The same into `out` (replaced): a loop over many points reuses one buffer, no allocation each.
+  void features_in_area(float x, float y, float radius, int min_level, int max_level,
+                        std::vector<std::size_t>& out) const;
 
   // Whether an undistorted position lies inside the image (the undistorted bounds).
   [[nodiscard]] bool in_bounds(double u, double v) const {
@@ -109,6 +112,15 @@ class Frame {
   // shipped 5-level vocabulary, the 100 nodes of depth 2 (as ORB-SLAM2's 4 up from its 6 levels).
   static constexpr int kBowLevelsUp = 3;
   void compute_bow(const place::Vocabulary& vocabulary);
+  // compute_bow in two steps, for a caller that transforms without holding the map and stores the
+  // result while holding it: words() reads only the descriptors; set_words() keeps words the frame
+  // has already.
+  struct Words {
+    place::BowVector bow;
+    place::FeatureVector features;
+  };
+  [[nodiscard]] Words words(const place::Vocabulary& vocabulary) const;
+  void set_words(Words words);
   [[nodiscard]] bool has_bow() const { return !bow.empty(); }
   place::BowVector bow;
   place::FeatureVector bow_features;

@@ -85,21 +85,24 @@ SemanticMask DynamicFrontEnd::mask(std::uint64_t id, const cv::Mat& depth,
   }
   if (!result) return out;
   had_mask_ = true;
-  cv::Mat mask = result->mask.clone();  // dilated in place below; the worker keeps its copy
   const auto age = static_cast<int>(id - result->frame_id);
   out.mask_frame = static_cast<std::int64_t>(result->frame_id);
   out.mask_age = age;
   out.segmentation_seconds = result->seconds;
   int dilation = segmentation_.dilation_px;
+  cv::Mat mask;
   if (age > 0) {
+    dilation += std::min(segmentation_.max_age_dilation_px,
+                         static_cast<int>(std::lround(age * segmentation_.age_dilation_px)));
     const auto it = std::find_if(recent_.begin(), recent_.end(),
                                  [&](const RecentFrame& r) { return r.id == result->frame_id; });
     if (predicted_T_cw && it != recent_.end() && it->T_cw)
-      mask = propagate_mask(mask, it->depth, *predicted_T_cw * it->T_cw->inverse(), camera_);
-    dilation += std::min(segmentation_.max_age_dilation_px,
-                         static_cast<int>(std::lround(age * segmentation_.age_dilation_px)));
+      mask = carry_mask(result->mask, it->depth, *predicted_T_cw * it->T_cw->inverse(), camera_, dilation);
   }
-  dilate_mask(mask, dilation);
+  if (mask.empty()) {
+    mask = result->mask.clone();  // dilated in place; the worker keeps its copy
+    dilate_mask(mask, dilation);
+  }
   out.mask = mask;
   return out;
 }

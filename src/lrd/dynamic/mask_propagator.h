@@ -15,7 +15,18 @@ namespace lrd::dynamic {
 [[nodiscard]] cv::Mat propagate_mask(const cv::Mat& mask, const cv::Mat& depth,
                                      const Eigen::Isometry3d& T_t_k, const camera::PinholeCamera& camera);
 
-// Grows nonzero pixels by a disc of `radius` pixels (in place; radius 0: unchanged).
+// Grows nonzero pixels by a disc of `radius` pixels (in place, set pixels become 255; radius 0:
+// unchanged).
 void dilate_mask(cv::Mat& mask, int radius);
+
+// From this radius on, carry_mask works at half resolution.
+inline constexpr int kHalfResolutionRadius = 9;
+
+// propagate_mask, then dilate_mask by `radius`, as one step: below kHalfResolutionRadius exactly
+// that; from it on at half resolution (2x2 blocks move as one), which covers the exact result and
+// may overshoot its edge by a few pixels (at most 7 in tests/unit/test_mask_carry.cc). A new mask;
+// `mask` is left as it is.
+[[nodiscard]] cv::Mat carry_mask(const cv::Mat& mask, const cv::Mat& depth, const Eigen::Isometry3d& T_t_k,
+                                 const camera::PinholeCamera& camera, int radius);
 
 }  // namespace lrd::dynamic

@@ -73,10 +73,6 @@ class OrbExtractor {
   void check_input(const cv::Mat& grey, const cv::Mat& mask) const;
   // Quadtree distribution, orientation and description of the detected corners not under `mask`.
   void finish(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
-  // Intensity-centroid orientation (Rosin 1999; Rublee et al. 2011, sec. 3.2).
-  void orient(const cv::Mat& image, cv::KeyPoint& kp) const;
-  // Steered BRIEF on the smoothed level image, one 32-byte row.
-  void describe(const cv::Mat& smoothed, const cv::KeyPoint& kp, std::uint8_t* row) const;
 
   OrbParams params_;
   ImagePyramid pyramid_;

@@ -36,6 +36,10 @@ class KeyFrame {
 
   // Bag-of-words (place recognition): computed once when local mapping takes the keyframe.
   void compute_bow(const place::Vocabulary& vocabulary) { frame_.compute_bow(vocabulary); }
+  [[nodiscard]] data::Frame::Words words(const place::Vocabulary& vocabulary) const {
+    return frame_.words(vocabulary);
+  }
+  void set_words(data::Frame::Words words) { frame_.set_words(std::move(words)); }
   [[nodiscard]] const place::BowVector& bow() const { return frame_.bow; }
   [[nodiscard]] const place::FeatureVector& bow_features() const { return frame_.bow_features; }
 

@@ -169,10 +169,16 @@ void LocalMapper::process(std::uint64_t keyframe_id) {
 }
 
 void LocalMapper::process_new_keyframe(map::KeyFrame* kf) {
+  // The words read only the keyframe's descriptors, fixed since tracking made it, and only this
+  // thread gives a keyframe its words: transformed without holding the map (about 1 ms of the
+  // 2.5 ms this step held it on walking_halfsphere, issue 23), stored while holding it.
+  const bool indexed = vocabulary_ != nullptr && database_ != nullptr;
+  data::Frame::Words words;
+  if (indexed && !kf->features().has_bow()) words = kf->words(*vocabulary_);
   std::lock_guard lock(map_.mutex());
   if (kf->is_bad()) return;
-  if (vocabulary_ != nullptr && database_ != nullptr) {
-    kf->compute_bow(*vocabulary_);
+  if (indexed) {
+    kf->set_words(std::move(words));
     database_->add(kf);
   }
   map_.keyframe_mapped(kf);
@@ -303,30 +309,43 @@ void LocalMapper::create_new_map_points(map::KeyFrame* kf) {
 }
 
 void LocalMapper::search_in_neighbours(map::KeyFrame* kf) {
-  std::lock_guard lock(map_.mutex());
-  if (kf->is_bad()) return;
+  // Step by step, each under its own hold of the map mutex: tracking waits for one neighbour's
+  // fuse at most, not for all of them (issue 23: one hold of ~4 ms per keyframe on walking_halfsphere, tum
+  // realism, a large part of tracking's waits); each step checks again what may have turned bad meanwhile, as
+  // create_new_map_points does. Lock-step (deterministic) runs do the same steps in the same order.
   const std::uint64_t tag = kf->id();
   std::vector<map::KeyFrame*> targets;
-  for (map::KeyFrame* n : kf->best_covisibles(static_cast<std::size_t>(params_.fuse_neighbours))) {
-    if (n->is_bad() || n->fuse_target_for_kf == tag) continue;
-    n->fuse_target_for_kf = tag;
-    targets.push_back(n);
-  }
-  const std::size_t first_order = targets.size();
-  for (std::size_t i = 0; i < first_order; ++i) {
-    for (map::KeyFrame* n2 :
-         targets[i]->best_covisibles(static_cast<std::size_t>(params_.fuse_second_neighbours))) {
-      if (n2->is_bad() || n2->fuse_target_for_kf == tag || n2 == kf) continue;
-      n2->fuse_target_for_kf = tag;
-      targets.push_back(n2);
+  {
+    std::lock_guard lock(map_.mutex());
+    if (kf->is_bad()) return;
+    for (map::KeyFrame* n : kf->best_covisibles(static_cast<std::size_t>(params_.fuse_neighbours))) {
+      if (n->is_bad() || n->fuse_target_for_kf == tag) continue;
+      n->fuse_target_for_kf = tag;
+      targets.push_back(n);
+    }
+    const std::size_t first_order = targets.size();
+    for (std::size_t i = 0; i < first_order; ++i) {
+      for (map::KeyFrame* n2 :
+           targets[i]->best_covisibles(static_cast<std::size_t>(params_.fuse_second_neighbours))) {
+        if (n2->is_bad() || n2->fuse_target_for_kf == tag || n2 == kf) continue;
+        n2->fuse_target_for_kf = tag;
+        targets.push_back(n2);
+      }
     }
   }
   // The new keyframe's points into the neighbours ...
   int fused_out = 0;
-  for (map::KeyFrame* t : targets) fused_out += matcher_.fuse(*t, kf->map_points());
+  for (map::KeyFrame* t : targets) {
+    std::lock_guard lock(map_.mutex());
+    if (kf->is_bad()) return;
+    if (!t->is_bad()) fused_out += matcher_.fuse(*t, kf->map_points());
+  }
   // ... and the neighbours' points into the new keyframe.
+  std::lock_guard lock(map_.mutex());
+  if (kf->is_bad()) return;
   std::vector<map::MapPoint*> candidates;
   for (map::KeyFrame* t : targets) {
+    if (t->is_bad()) continue;
     for (map::MapPoint* mp : t->map_points()) {
       if (mp == nullptr || mp->is_bad() || mp->fuse_candidate_for_kf == tag) continue;
       mp->fuse_candidate_for_kf = tag;

@@ -34,6 +34,7 @@ int OrbMatcher::search_by_projection(data::Frame& current, const data::Frame& la
 
   RotationHistogram hist;
   int matches = 0;
+  std::vector<std::size_t> cands;
   for (std::size_t i = 0; i < last.size(); ++i) {
     map::MapPoint* mp = last.map_points[i];
     if (mp == nullptr || last.outliers[i] || mp->is_bad()) continue;
@@ -43,13 +44,12 @@ int OrbMatcher::search_by_projection(data::Frame& current, const data::Frame& la
     if (!current.in_bounds(uv.x(), uv.y())) continue;
     const int octave = last.undistorted()[i].octave;
     const float radius = th * current.scale_factors()[static_cast<std::size_t>(octave)];
-    std::vector<std::size_t> cands;
     if (forward)
-      cands = current.features_in_area(uv.x(), uv.y(), radius, octave, -1);
+      current.features_in_area(uv.x(), uv.y(), radius, octave, -1, cands);
     else if (backward)
-      cands = current.features_in_area(uv.x(), uv.y(), radius, 0, octave);
+      current.features_in_area(uv.x(), uv.y(), radius, 0, octave, cands);
     else
-      cands = current.features_in_area(uv.x(), uv.y(), radius, std::max(0, octave - 1), octave + 1);
+      current.features_in_area(uv.x(), uv.y(), radius, std::max(0, octave - 1), octave + 1, cands);
     if (cands.empty()) continue;
     const double u_right = uv.x() - cam.bf / pc.z();
     int best = 256;
@@ -82,13 +82,14 @@ int OrbMatcher::search_by_projection(data::Frame& current, const data::Frame& la
 int OrbMatcher::search_by_projection(data::Frame& current, const std::vector<map::MapPoint*>& points,
                                      float th) const {
   int matches = 0;
+  std::vector<std::size_t> cands;
   for (map::MapPoint* mp : points) {
     if (!mp->track.in_view || mp->is_bad()) continue;
     const int level = mp->track.scale_level;
     const float scale = current.scale_factors()[static_cast<std::size_t>(level)];
     // A wider window when the viewing angle differs (ORB-SLAM2's RadiusByViewingCos).
     const float radius = (mp->track.view_cos > 0.998f ? 2.5f : 4.0f) * th * scale;
-    const auto cands = current.features_in_area(mp->track.proj_x, mp->track.proj_y, radius, level - 1, level);
+    current.features_in_area(mp->track.proj_x, mp->track.proj_y, radius, level - 1, level, cands);
     if (cands.empty()) continue;
     int best = 256, second = 256, best_level = -1, second_level = -1;
     std::size_t best_idx = 0;

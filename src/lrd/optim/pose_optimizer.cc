@@ -75,6 +75,50 @@ double cost(const camera::PinholeCamera& cam, const std::vector<PoseObservation>
   return c;
 }
 
+// Levenberg-Marquardt on the left perturbation T <- exp(xi) T over the inliers, at most
+// params.iterations steps. Stops once a step would move the pose by less than kConverged (squared
+// norm of xi: 1e-6 rad and 1e-6 m, far below what any test of ours can see): the next steps only
+// chase rounding, and at the optimum every attempt fails until lambda has grown 8 times.
+void refine(const camera::PinholeCamera& cam, const std::vector<PoseObservation>& obs,
+            const std::vector<bool>& outlier, bool robust, const PoseOptimizerParams& params,
+            Eigen::Isometry3d& T) {
+  constexpr double kConverged = 1e-12;
+  double lambda = 1e-4;
+  double current = cost(cam, obs, outlier, T, robust, params);
+  for (int it = 0; it < params.iterations; ++it) {
+    Matrix6d H = Matrix6d::Zero();
+    Vector6d g = Vector6d::Zero();
+    for (std::size_t i = 0; i < obs.size(); ++i) {
+      if (outlier[i]) continue;
+      const Residual r = residual(cam, obs[i], T, true);
+      if (!r.valid) continue;
+      const double chi2 = r.chi2(obs[i].inv_sigma2);
+      const double w = obs[i].inv_sigma2 *
+                       (robust ? huber_weight(chi2, r.stereo ? params.chi2_stereo : params.chi2_mono) : 1.0);
+      H.noalias() += w * r.J.transpose() * r.J;
+      g.noalias() += w * r.J.transpose() * r.e;
+    }
+    bool improved = false;
+    for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
+      Matrix6d A = H;
+      A.diagonal() += lambda * H.diagonal().cwiseMax(1e-9);
+      const Vector6d xi = A.ldlt().solve(-g);
+      if (!xi.allFinite() || xi.squaredNorm() < kConverged) return;
+      const Eigen::Isometry3d candidate = geometry::orthonormalized(geometry::se3_exp(xi) * T);
+      const double c = cost(cam, obs, outlier, candidate, robust, params);
+      if (c < current) {
+        T = candidate;
+        current = c;
+        lambda = std::max(lambda * 0.3, 1e-9);
+        improved = true;
+      } else {
+        lambda *= 10.0;
+      }
+    }
+    if (!improved) return;
+  }
+}
+
 }  // namespace
 
 PoseOptimizationResult optimize_pose(const camera::PinholeCamera& cam,
@@ -88,46 +132,15 @@ PoseOptimizationResult optimize_pose(const camera::PinholeCamera& cam,
     result.inliers = static_cast<int>(obs.size());
     return result;
   }
+  std::vector<bool> previous_outliers;
   Eigen::Isometry3d T = T_cw_initial;
   for (int round = 0; round < params.rounds; ++round) {
     const bool robust = round < params.robust_rounds;
-    double lambda = 1e-4;
-    double current = cost(cam, obs, result.outlier, T, robust, params);
-    for (int it = 0; it < params.iterations; ++it) {
-      Matrix6d H = Matrix6d::Zero();
-      Vector6d g = Vector6d::Zero();
-      for (std::size_t i = 0; i < obs.size(); ++i) {
-        if (result.outlier[i]) continue;
-        const Residual r = residual(cam, obs[i], T, true);
-        if (!r.valid) continue;
-        const double chi2 = r.chi2(obs[i].inv_sigma2);
-        const double w =
-            obs[i].inv_sigma2 *
-            (robust ? huber_weight(chi2, r.stereo ? params.chi2_stereo : params.chi2_mono) : 1.0);
-        H.noalias() += w * r.J.transpose() * r.J;
-        g.noalias() += w * r.J.transpose() * r.e;
-      }
-      // Levenberg-Marquardt step on the left perturbation: T <- exp(xi) T.
-      bool improved = false;
-      for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
-        Matrix6d A = H;
-        A.diagonal() += lambda * H.diagonal().cwiseMax(1e-9);
-        const Vector6d xi = A.ldlt().solve(-g);
-        if (!xi.allFinite()) break;
-        const Eigen::Isometry3d candidate = geometry::orthonormalized(geometry::se3_exp(xi) * T);
-        const double c = cost(cam, obs, result.outlier, candidate, robust, params);
-        if (c < current) {
-          T = candidate;
-          current = c;
-          lambda = std::max(lambda * 0.3, 1e-9);
-          improved = true;
-          if (xi.squaredNorm() < 1e-16) it = params.iterations;  // converged
-        } else {
-          lambda *= 10.0;
-        }
-      }
-      if (!improved) break;
-    }
+    // The same kernel over the same inliers as the round before has the same optimum.
+    if (round > 0 && robust == (round - 1 < params.robust_rounds) && result.outlier == previous_outliers)
+      continue;
+    previous_outliers = result.outlier;
+    refine(cam, obs, result.outlier, robust, params, T);
     // Re-classify every observation (outliers may come back) against the chi-square thresholds.
     int inliers = 0;
     for (std::size_t i = 0; i < obs.size(); ++i) {
