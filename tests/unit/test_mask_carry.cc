@@ -10,7 +10,8 @@
 #include "lrd/camera/pinhole_camera.h"
 #include "lrd/dynamic/mask_propagator.h"
 
-namespace {
+// A named namespace: the test preset builds several test files as one (unity build).
+namespace mask_carry {
 
 const lrd::camera::PinholeCamera& tum3() {
   static const lrd::camera::PinholeCamera cam = lrd::camera::camera_preset("tum3");
@@ -42,15 +43,16 @@ int outside(const cv::Mat& a, const cv::Mat& b) {  // pixels set in a and not in
   return cv::countNonZero((a != 0) & (b == 0));
 }
 
-}  // namespace
+}  // namespace mask_carry
 
 TEST(MaskCarry, DilationIsExactlyTheDiscAtEveryRadius) {
   for (unsigned seed = 1; seed <= 3; ++seed) {
-    const cv::Mat mask = blobs(seed);
+    const cv::Mat mask = mask_carry::blobs(seed);
     for (const int radius : {1, 2, 5, 7, 11, 20, 31}) {
       SCOPED_TRACE(testing::Message() << "seed " << seed << " radius " << radius);
       cv::Mat reference;
-      cv::dilate(mask != 0, reference, disc(radius), cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, 0);
+      cv::dilate(mask != 0, reference, mask_carry::disc(radius), cv::Point(-1, -1), 1, cv::BORDER_CONSTANT,
+                 0);
       cv::Mat ours = mask.clone();
       const cv::Mat alias = ours;  // in place: another header on the buffer sees the result
       lrd::dynamic::dilate_mask(ours, radius);
@@ -62,8 +64,8 @@ TEST(MaskCarry, DilationIsExactlyTheDiscAtEveryRadius) {
 }
 
 TEST(MaskCarry, BelowTheHalfResolutionRadiusCarryingIsPropagationThenDilation) {
-  const auto& cam = tum3();
-  const cv::Mat mask = blobs(4), depth(480, 640, CV_32F, cv::Scalar(2.0f));
+  const auto& cam = mask_carry::tum3();
+  const cv::Mat mask = mask_carry::blobs(4), depth(480, 640, CV_32F, cv::Scalar(2.0f));
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(0.05, -0.02, 0.03);
   cv::Mat exact = lrd::dynamic::propagate_mask(mask, depth, T, cam);
@@ -78,7 +80,7 @@ TEST(MaskCarry, BelowTheHalfResolutionRadiusCarryingIsPropagationThenDilation) {
 // away, turning, with depth that varies (a slanted scene) and holes without depth (which stay where they
 // were).
 TEST(MaskCarry, AtHalfResolutionTheExactResultIsCoveredWithinAFewPixels) {
-  const auto& cam = tum3();
+  const auto& cam = mask_carry::tum3();
   cv::Mat depth(480, 640, CV_32F);
   for (int v = 0; v < depth.rows; ++v)
     for (int u = 0; u < depth.cols; ++u)
@@ -91,7 +93,7 @@ TEST(MaskCarry, AtHalfResolutionTheExactResultIsCoveredWithinAFewPixels) {
       Eigen::AngleAxisd(0.06, Eigen::Vector3d(0.3, 1.0, 0.2).normalized()).toRotationMatrix();
   motions[3].translation() = Eigen::Vector3d(-0.04, 0.0, -0.1);
   for (unsigned seed = 5; seed <= 7; ++seed) {
-    cv::Mat mask = blobs(seed);
+    cv::Mat mask = mask_carry::blobs(seed);
     cv::ellipse(mask, cv::Point(130, 125), cv::Size(40, 30), 0.0, 0.0, 360.0, 255,
                 -1);  // partly without depth
     for (std::size_t m = 0; m < motions.size(); ++m)
@@ -108,8 +110,8 @@ TEST(MaskCarry, AtHalfResolutionTheExactResultIsCoveredWithinAFewPixels) {
         const cv::Mat carried = lrd::dynamic::carry_mask(mask, depth, motions[m], cam, radius);
         ASSERT_EQ(carried.type(), CV_8UC1);
         ASSERT_EQ(carried.size(), mask.size());
-        EXPECT_EQ(outside(exact, carried), 0);
-        EXPECT_EQ(outside(carried, generous), 0);
+        EXPECT_EQ(mask_carry::outside(exact, carried), 0);
+        EXPECT_EQ(mask_carry::outside(carried, generous), 0);
         EXPECT_LT(cv::countNonZero(carried), 1.5 * cv::countNonZero(exact));
       }
   }

@@ -1,11 +1,8 @@
 #include "lrd/features/gaussian_smoother.h"
 
 #include <cstring>
-#include <opencv2/core/utility.hpp>
 
-#if defined(__GNUC__) && defined(__x86_64__)
-#define LRD_AVX2_SMOOTHER 1
-#endif
+#include "lrd/util/cpu_features.h"
 
 namespace lrd::features {
 namespace {
@@ -45,20 +42,11 @@ void smooth_rows_baseline(const cv::Mat& src, cv::Mat& dst, std::uint8_t* col) {
   smooth_rows(src, dst, col);
 }
 
-#ifdef LRD_AVX2_SMOOTHER
+#ifdef LRD_AVX2_COPIES
 [[gnu::target("avx2")]] void smooth_rows_avx2(const cv::Mat& src, cv::Mat& dst, std::uint8_t* col) {
   smooth_rows(src, dst, col);
 }
 #endif
-
-bool cpu_has_avx2() {
-#ifdef LRD_AVX2_SMOOTHER
-  static const bool has = cv::checkHardwareSupport(CV_CPU_AVX2);
-  return has;
-#else
-  return false;
-#endif
-}
 
 }  // namespace
 
@@ -75,8 +63,8 @@ void GaussianSmoother::smooth(const cv::Mat& src, cv::Mat& dst) {
     std::memcpy(dst.ptr(h - 1 - y), src.ptr(h - 1 - y), w);
   }
   column_.resize(w);
-#ifdef LRD_AVX2_SMOOTHER
-  if (cpu_has_avx2()) {
+#ifdef LRD_AVX2_COPIES
+  if (util::cpu_has_avx2()) {
     smooth_rows_avx2(src, dst, column_.data());
     return;
   }

@@ -5,17 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
 #include "lrd/features/brief_pattern.h"
+#include "lrd/util/cpu_features.h"
 #include "lrd/util/error.h"
-
-#if defined(__GNUC__) && defined(__x86_64__)
-#define LRD_AVX2_ORB 1
-#endif
 
 namespace lrd::features {
 namespace {
@@ -118,22 +114,13 @@ void describe_level_baseline(const LevelImages& in, const Pattern& pattern, std:
   describe_level(in, pattern, chosen, row, keypoints, descriptors);
 }
 
-#ifdef LRD_AVX2_ORB
+#ifdef LRD_AVX2_COPIES
 [[gnu::target("avx2")]] void describe_level_avx2(const LevelImages& in, const Pattern& pattern,
                                                  std::vector<cv::KeyPoint>& chosen, int row,
                                                  std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
   describe_level(in, pattern, chosen, row, keypoints, descriptors);
 }
 #endif
-
-bool cpu_has_avx2() {
-#ifdef LRD_AVX2_ORB
-  static const bool has = cv::checkHardwareSupport(CV_CPU_AVX2);
-  return has;
-#else
-  return false;
-#endif
-}
 
 }  // namespace
 
@@ -300,8 +287,8 @@ void OrbExtractor::finish(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoi
     w.smoother.smooth(image, w.smoothed);
     const LevelImages in{image, w.smoothed, pyramid_, level};
     const Pattern pattern{u_max_.data(), pattern_x_.data(), pattern_y_.data()};
-#ifdef LRD_AVX2_ORB
-    if (cpu_has_avx2()) {
+#ifdef LRD_AVX2_COPIES
+    if (util::cpu_has_avx2()) {
       describe_level_avx2(in, pattern, w.chosen, w.first_row, keypoints, descriptors);
       return;
     }

@@ -1,0 +1,22 @@
+#pragma once
+// A hot loop in two copies, chosen at run time (issue 23): the same C++ inlined into a baseline
+// function and into one compiled with [[gnu::target("avx2")]], where the compiler can make it.
+// Without -mavx2 for the whole build, the binary still runs on any x86-64, and the libraries we
+// link (Eigen in Ceres, OpenCV) keep the layouts they were built with.
+#if defined(__GNUC__) && defined(__x86_64__)
+#define LRD_AVX2_COPIES 1
+#endif
+
+namespace lrd::util {
+
+// Whether this CPU runs AVX2 and the build made AVX2 copies (LRD_AVX2_COPIES).
+[[nodiscard]] inline bool cpu_has_avx2() {
+#ifdef LRD_AVX2_COPIES
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
+}  // namespace lrd::util
