@@ -95,8 +95,7 @@ Frame::SavedFeatures Frame::saved_features() const {
 }
 
 void Frame::compute_bow(const place::Vocabulary& vocabulary) {
-  if (!bow.empty()) return;
-  vocabulary.transform(descriptors_, bow, bow_features, kBowLevelsUp);
+  if (bow.empty()) set_words(words(vocabulary));
 }
 
 Frame::Words Frame::words(const place::Vocabulary& vocabulary) const {

@@ -81,10 +81,7 @@ const OrbParams& validated(const OrbParams& p) {
   }
 }
 
-// Orientation and descriptor of every keypoint chosen on one level, written to `keypoints` and
-// `descriptors` from row `row` on (level-0 coordinates). Inlined into two copies below, one
-// compiled for AVX2 (twice the vector width for the moments and the pattern's rotation; no FMA, so
-// the same bits as the SSE2 baseline).
+// A level's images, and the pattern of orientation and description.
 struct LevelImages {
   const cv::Mat& image;
   const cv::Mat& smoothed;
@@ -96,6 +93,10 @@ struct Pattern {
   const float* x;
   const float* y;
 };
+// Orientation and descriptor of every keypoint chosen on one level, written to `keypoints` and
+// `descriptors` from row `row` on (level-0 coordinates). Inlined into two copies below, one
+// compiled for AVX2 (twice the vector width for the moments and the pattern's rotation; no FMA, so
+// the same bits as the SSE2 baseline).
 [[gnu::always_inline]] inline void describe_level(const LevelImages& in, const Pattern& pattern,
                                                   std::vector<cv::KeyPoint>& chosen, int row,
                                                   std::vector<cv::KeyPoint>& keypoints,

@@ -310,9 +310,9 @@ void LocalMapper::create_new_map_points(map::KeyFrame* kf) {
 
 void LocalMapper::search_in_neighbours(map::KeyFrame* kf) {
   // Step by step, each under its own hold of the map mutex: tracking waits for one neighbour's
-  // fuse at most, not for all of them (issue 23: one hold of ~4 ms per keyframe on walking_halfsphere, tum
-  // realism, a large part of tracking's waits); each step checks again what may have turned bad meanwhile, as
-  // create_new_map_points does. Lock-step (deterministic) runs do the same steps in the same order.
+  // fuse at most, not for all of them (issue 23: one hold of ~4 ms per keyframe on
+  // walking_halfsphere, tum realism). Each step checks again what may have turned bad meanwhile,
+  // as create_new_map_points does; lock-step (deterministic) runs take the same steps in order.
   const std::uint64_t tag = kf->id();
   std::vector<map::KeyFrame*> targets;
   {
