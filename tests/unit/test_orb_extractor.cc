@@ -1,6 +1,7 @@
 // The ORB extractor: count, spread, masks, rotation invariance of orientation and descriptors,
 // determinism; the quadtree distributor; keypoint undistortion.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <bit>
@@ -294,6 +295,30 @@ TEST(OrbExtractor, DeterministicBits) {
     ASSERT_EQ(a.descriptors.size(), other->descriptors.size());
     EXPECT_EQ(std::memcmp(a.descriptors.data, other->descriptors.data, a.descriptors.total()), 0);
   }
+}
+
+// Level 0's corners and every level's smoothing are handed to TBB's helper while the pyramid is
+// built: with no helper at all (one thread) the caller does that work itself, with the same bits.
+TEST(OrbExtractor, SameBitsWithoutAHelperThread) {
+  const cv::Mat& grey = textured_frame(1);
+  OrbExtractor orb{OrbParams{}};
+  Features parallel, alone;
+  orb.extract(grey, cv::Mat(), parallel.keypoints, parallel.descriptors);
+  tbb::task_arena one_thread(1);
+  one_thread.execute([&] {
+    OrbExtractor own{OrbParams{}};
+    own.detect(grey);
+    own.describe_detected(cv::Mat(), alone.keypoints, alone.descriptors);
+  });
+  ASSERT_EQ(parallel.keypoints.size(), alone.keypoints.size());
+  ASSERT_GT(parallel.keypoints.size(), 500u);
+  for (std::size_t i = 0; i < parallel.keypoints.size(); ++i) {
+    const cv::KeyPoint &p = parallel.keypoints[i], &q = alone.keypoints[i];
+    ASSERT_TRUE(p.pt == q.pt && p.angle == q.angle && p.octave == q.octave && p.response == q.response)
+        << "keypoint " << i;
+  }
+  ASSERT_EQ(parallel.descriptors.size(), alone.descriptors.size());
+  EXPECT_EQ(std::memcmp(parallel.descriptors.data, alone.descriptors.data, parallel.descriptors.total()), 0);
 }
 
 TEST(OrbQuadtree, KeepsIsolatedCornersAndTheStrongestOfClusters) {

@@ -26,8 +26,17 @@ ImagePyramid::ImagePyramid(int n_levels, float scale_factor) {
 }
 
 void ImagePyramid::build(const cv::Mat& grey) {
+  set_base(grey);
+  build_levels();
+}
+
+void ImagePyramid::set_base(const cv::Mat& grey) {
   CV_Assert(grey.type() == CV_8UC1 && !grey.empty());
   images_[0] = grey;
+}
+
+void ImagePyramid::build_levels() {
+  const cv::Mat& grey = images_[0];
   for (int i = 1; i < levels(); ++i) {
     // Sizes round from level 0, as ORB-SLAM2 does; each level shrinks the previous one, which is
     // cheaper and smoother than shrinking level 0 by a large factor with bilinear sampling.

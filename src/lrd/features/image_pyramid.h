@@ -14,6 +14,10 @@ class ImagePyramid {
   // Rebuilds every level from `grey` (CV_8UC1). Level 0 shares grey's pixels; the other levels
   // are kept between calls, so building pyramids of same-sized frames allocates nothing.
   void build(const cv::Mat& grey);
+  // build() in two steps, so that work on level 0 (the input itself) can start while the other
+  // levels are made: set_base() sets level 0, build_levels() makes levels 1.. from it.
+  void set_base(const cv::Mat& grey);
+  void build_levels();
 
   [[nodiscard]] int levels() const { return static_cast<int>(scale_.size()); }
   [[nodiscard]] const cv::Mat& level(int i) const { return images_[i]; }

@@ -70,6 +70,8 @@ class OrbExtractor {
   // Unmasked FAST corners of one level (level coordinates, response = score): those scoring
   // ini_th_fast, and in cells without any, those scoring min_th_fast.
   void detect(int level, const cv::Mat& mask, LevelWork& work) const;
+  // Builds the pyramid, finds every level's corners (detect) and smooths every level.
+  void detect_and_smooth(const cv::Mat& grey, const cv::Mat& mask);
   void check_input(const cv::Mat& grey, const cv::Mat& mask) const;
   // Quadtree distribution, orientation and description of the detected corners not under `mask`.
   void finish(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);

@@ -138,6 +138,9 @@ class KeyFrame {
 
   // Scratch marks (the frame / keyframe id of the last operation that touched it).
   std::uint64_t track_reference_for_frame = UINT64_MAX;
+  // Points the frame being tracked shares with this keyframe, and the tracker's count they belong to.
+  std::uint64_t track_count_for_frame = UINT64_MAX;
+  int track_shared_points = 0;
   std::uint64_t fuse_target_for_kf = UINT64_MAX;
   std::uint64_t local_ba_for_kf = UINT64_MAX;
   std::uint64_t fixed_ba_for_kf = UINT64_MAX;

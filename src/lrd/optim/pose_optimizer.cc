@@ -56,14 +56,17 @@ double huber_weight(double chi2, double delta2) {
   return chi2 <= delta2 ? 1.0 : std::sqrt(delta2 / chi2);
 }
 
-// Robust cost of the current inliers.
-double cost(const camera::PinholeCamera& cam, const std::vector<PoseObservation>& obs,
-            const std::vector<bool>& out, const Eigen::Isometry3d& T, bool robust,
-            const PoseOptimizerParams& p) {
+// Robust cost of the current inliers at T and, with H and g given, the Gauss-Newton system there
+// (Huber-weighted J^T J and J^T e). One pass serves both: an accepted step's cost pass is the
+// next iteration's linearisation, with the same numbers as two separate passes.
+double linearize(const camera::PinholeCamera& cam, const std::vector<PoseObservation>& obs,
+                 const std::vector<bool>& out, const Eigen::Isometry3d& T, bool robust,
+                 const PoseOptimizerParams& p, Matrix6d* H, Vector6d* g) {
+  if (H != nullptr) H->setZero(), g->setZero();
   double c = 0.0;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (out[i]) continue;
-    const Residual r = residual(cam, obs[i], T, false);
+    const Residual r = residual(cam, obs[i], T, H != nullptr);
     if (!r.valid) {
       c += 1e6;
       continue;
@@ -71,6 +74,10 @@ double cost(const camera::PinholeCamera& cam, const std::vector<PoseObservation>
     const double chi2 = r.chi2(obs[i].inv_sigma2);
     const double d2 = r.stereo ? p.chi2_stereo : p.chi2_mono;
     c += robust && chi2 > d2 ? 2.0 * std::sqrt(d2 * chi2) - d2 : chi2;
+    if (H == nullptr) continue;
+    const double w = obs[i].inv_sigma2 * (robust ? huber_weight(chi2, d2) : 1.0);
+    H->noalias() += w * r.J.transpose() * r.J;
+    g->noalias() += w * r.J.transpose() * r.e;
   }
   return c;
 }
@@ -84,20 +91,10 @@ void refine(const camera::PinholeCamera& cam, const std::vector<PoseObservation>
             Eigen::Isometry3d& T) {
   constexpr double kConverged = 1e-12;
   double lambda = 1e-4;
-  double current = cost(cam, obs, outlier, T, robust, params);
+  Matrix6d H, H_candidate;
+  Vector6d g, g_candidate;
+  double current = linearize(cam, obs, outlier, T, robust, params, &H, &g);
   for (int it = 0; it < params.iterations; ++it) {
-    Matrix6d H = Matrix6d::Zero();
-    Vector6d g = Vector6d::Zero();
-    for (std::size_t i = 0; i < obs.size(); ++i) {
-      if (outlier[i]) continue;
-      const Residual r = residual(cam, obs[i], T, true);
-      if (!r.valid) continue;
-      const double chi2 = r.chi2(obs[i].inv_sigma2);
-      const double w = obs[i].inv_sigma2 *
-                       (robust ? huber_weight(chi2, r.stereo ? params.chi2_stereo : params.chi2_mono) : 1.0);
-      H.noalias() += w * r.J.transpose() * r.J;
-      g.noalias() += w * r.J.transpose() * r.e;
-    }
     bool improved = false;
     for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
       Matrix6d A = H;
@@ -105,10 +102,14 @@ void refine(const camera::PinholeCamera& cam, const std::vector<PoseObservation>
       const Vector6d xi = A.ldlt().solve(-g);
       if (!xi.allFinite() || xi.squaredNorm() < kConverged) return;
       const Eigen::Isometry3d candidate = geometry::orthonormalized(geometry::se3_exp(xi) * T);
-      const double c = cost(cam, obs, outlier, candidate, robust, params);
+      // The last iteration's accepted step needs no system: its cost alone decides.
+      const bool last = it + 1 == params.iterations;
+      const double c = linearize(cam, obs, outlier, candidate, robust, params, last ? nullptr : &H_candidate,
+                                 last ? nullptr : &g_candidate);
       if (c < current) {
         T = candidate;
         current = c;
+        if (!last) H = H_candidate, g = g_candidate;
         lambda = std::max(lambda * 0.3, 1e-9);
         improved = true;
       } else {

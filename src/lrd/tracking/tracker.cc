@@ -376,8 +376,10 @@ bool Tracker::track_local_map(data::Frame& frame) {
 }
 
 void Tracker::update_local_keyframes(data::Frame& frame) {
-  // Keyframes sharing points with the frame, by number of shared points.
-  std::map<map::KeyFrame*, int, map::ById> counter;
+  // Keyframes sharing points with the frame, by number of shared points: counted on the keyframes
+  // themselves rather than in a map rebuilt every frame, then taken in id order.
+  const std::uint64_t count_tag = ++sharing_count_pass_;
+  std::vector<map::KeyFrame*> observers;
   for (std::size_t i = 0; i < frame.size(); ++i) {
     map::MapPoint* mp = frame.map_points[i];
     if (mp == nullptr) continue;
@@ -385,14 +387,22 @@ void Tracker::update_local_keyframes(data::Frame& frame) {
       frame.map_points[i] = nullptr;
       continue;
     }
-    for (const auto& [kf, idx] : mp->observations()) ++counter[kf];
+    for (const auto& [kf, idx] : mp->observations()) {
+      if (kf->track_count_for_frame != count_tag) {
+        kf->track_count_for_frame = count_tag;
+        kf->track_shared_points = 0;
+        observers.push_back(kf);
+      }
+      ++kf->track_shared_points;
+    }
   }
-  if (counter.empty()) return;
+  if (observers.empty()) return;
+  std::sort(observers.begin(), observers.end(), map::ById{});
+  std::vector<std::pair<map::KeyFrame*, int>> sharing;
+  for (map::KeyFrame* kf : observers)
+    if (!kf->is_bad()) sharing.emplace_back(kf, kf->track_shared_points);
   const std::uint64_t tag = search_pass_;
   const auto max_kfs = static_cast<std::size_t>(params_.max_local_keyframes);
-  std::vector<std::pair<map::KeyFrame*, int>> sharing;
-  for (const auto& [kf, n] : counter)
-    if (!kf->is_bad()) sharing.emplace_back(kf, n);
   // At most max_local_keyframes of them, those sharing the most (issue 23: where laps pile up
   // keyframes over the same room, every one sharing a few points would enter, and tracking's cost
   // would grow with the time spent there); kept in id order, as below the cap.
