@@ -157,6 +157,16 @@ TEST_F(ConfigTest, OutOfRangeAndBadPreset) {
     EXPECT_TRUE(contains(e.what(), "t.yaml:2: key 'tracking.keyframe_coverage' must be in [0, 1]"))
         << e.what();
   }
+  const auto close = load_config(write("c.yaml", "tracking:\n  keyframe_close_untracked: -1\n"));
+  try {
+    (void)lrd::tracking::TrackerParams::from_config(close.tracking);
+    ADD_FAILURE() << "expected lrd::Error";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "c.yaml:2: key 'tracking.keyframe_close_untracked' must be >= 0"))
+        << e.what();
+  }
+  const auto set = load_config(write("s.yaml", "tracking:\n  keyframe_close_tracked: 50\n"));
+  EXPECT_EQ(lrd::tracking::TrackerParams::from_config(set.tracking).keyframe_close_tracked, 50);
   msg = error_of("camera:\n  preset: tum4\n");
   EXPECT_TRUE(contains(msg, "bad.yaml:2: key 'camera.preset'")) << msg;
   EXPECT_TRUE(contains(msg, "tum4")) << msg;
@@ -227,6 +237,8 @@ TEST_F(ConfigTest, ShippedDefaultTrackingAndMappingSectionsMatchCodeDefaults) {
   EXPECT_EQ(t.max_local_keyframes, td.max_local_keyframes);
   EXPECT_DOUBLE_EQ(t.reference_ratio, td.reference_ratio);
   EXPECT_EQ(t.keyframe_close_points, td.keyframe_close_points);
+  EXPECT_EQ(t.keyframe_close_tracked, td.keyframe_close_tracked);
+  EXPECT_EQ(t.keyframe_close_untracked, td.keyframe_close_untracked);
   EXPECT_DOUBLE_EQ(t.keyframe_coverage, td.keyframe_coverage);
   const auto m = lrd::mapping::LocalMapperParams::from_config(cfg.mapping);
   const lrd::mapping::LocalMapperParams md;

@@ -55,7 +55,8 @@ bool KeyFrameInserter::needed(const data::Frame& frame, const KeyFrameContext& c
     else
       ++untracked_close;
   }
-  const bool need_close = tracked_close < 100 && untracked_close > 70;
+  const bool need_close =
+      tracked_close < params_.keyframe_close_tracked && untracked_close > params_.keyframe_close_untracked;
   // The tracked points span too little of the view (docs/slam-core.md, "Keyframe coverage").
   const double coverage = params_.keyframe_coverage > 0.0 ? tracked_view_coverage(frame) : 1.0;
   const bool need_coverage = coverage < params_.keyframe_coverage;

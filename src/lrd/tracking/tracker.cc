@@ -67,6 +67,10 @@ TrackerParams TrackerParams::from_config(config::NodeReader r) {
   r.check(p.reference_ratio > 0 && p.reference_ratio <= 1, "reference_ratio", "must be in (0, 1]");
   p.keyframe_close_points = r.get("keyframe_close_points", p.keyframe_close_points);
   r.check(p.keyframe_close_points >= 0, "keyframe_close_points", "must be >= 0");
+  p.keyframe_close_tracked = r.get("keyframe_close_tracked", p.keyframe_close_tracked);
+  r.check(p.keyframe_close_tracked >= 0, "keyframe_close_tracked", "must be >= 0");
+  p.keyframe_close_untracked = r.get("keyframe_close_untracked", p.keyframe_close_untracked);
+  r.check(p.keyframe_close_untracked >= 0, "keyframe_close_untracked", "must be >= 0");
   p.keyframe_coverage = r.get("keyframe_coverage", p.keyframe_coverage);
   r.check(p.keyframe_coverage >= 0 && p.keyframe_coverage <= 1, "keyframe_coverage", "must be in [0, 1]");
   p.discount_hidden_points = r.get("discount_hidden_points", p.discount_hidden_points);
