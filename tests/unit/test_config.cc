@@ -149,22 +149,19 @@ TEST_F(ConfigTest, OutOfRangeAndBadPreset) {
   EXPECT_TRUE(contains(msg, "bad.yaml:2: key 'features.scale_factor' must be > 1")) << msg;
   msg = error_of("camera:\n  preset: tum3\n  disparity_sigma: 0\n");
   EXPECT_TRUE(contains(msg, "bad.yaml:3: key 'camera.disparity_sigma' must be > 0")) << msg;
-  const auto cfg = load_config(write("t.yaml", "tracking:\n  keyframe_coverage: 1.5\n"));
-  try {
-    (void)lrd::tracking::TrackerParams::from_config(cfg.tracking);
-    ADD_FAILURE() << "expected lrd::Error";
-  } catch (const lrd::Error& e) {
-    EXPECT_TRUE(contains(e.what(), "t.yaml:2: key 'tracking.keyframe_coverage' must be in [0, 1]"))
-        << e.what();
-  }
-  const auto close = load_config(write("c.yaml", "tracking:\n  keyframe_close_untracked: -1\n"));
-  try {
-    (void)lrd::tracking::TrackerParams::from_config(close.tracking);
-    ADD_FAILURE() << "expected lrd::Error";
-  } catch (const lrd::Error& e) {
-    EXPECT_TRUE(contains(e.what(), "c.yaml:2: key 'tracking.keyframe_close_untracked' must be >= 0"))
-        << e.what();
-  }
+  // Tracking's keys are checked when the tracker reads its section.
+  auto tracking_error = [&](const std::string& file, const std::string& text) {
+    try {
+      (void)lrd::tracking::TrackerParams::from_config(load_config(write(file, text)).tracking);
+    } catch (const lrd::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  msg = tracking_error("t.yaml", "tracking:\n  keyframe_coverage: 1.5\n");
+  EXPECT_TRUE(contains(msg, "t.yaml:2: key 'tracking.keyframe_coverage' must be in [0, 1]")) << msg;
+  msg = tracking_error("c.yaml", "tracking:\n  keyframe_close_untracked: -1\n");
+  EXPECT_TRUE(contains(msg, "c.yaml:2: key 'tracking.keyframe_close_untracked' must be >= 0")) << msg;
   const auto set = load_config(write("s.yaml", "tracking:\n  keyframe_close_tracked: 50\n"));
   EXPECT_EQ(lrd::tracking::TrackerParams::from_config(set.tracking).keyframe_close_tracked, 50);
   msg = error_of("camera:\n  preset: tum4\n");
