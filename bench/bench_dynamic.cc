@@ -7,12 +7,15 @@
 // with every mode's trajectory per preset (`lrdslam report OUT` writes it again).
 //
 //   bench_dynamic [--presets a,b] [--modes static,semantic,geometric,full] [--segmenter NAME]
-//                 [--sync] [--frames N] [--cache DIR] [--out DIR]
+//                 [--sync] [--frames N] [--cache DIR] [--out DIR] [--config FILE]
 //
 // --segmenter: fnet (our shipped model) when models/fnet-lite.onnx exists, else gt-masks (the
 // benchmark's ground truth for people: the upper bound a network can reach). --sync adds a
 // `full` run with the paper's synchronous schedule next to the default asynchronous one.
+// --config: an lrd-slam YAML config for every run (a setting judged against the defaults by two
+// interleaved runs); `full-sync` takes it with segmentation.schedule set to sync.
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include <CLI/CLI.hpp>
 #include <cmath>
@@ -22,6 +25,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -71,6 +75,21 @@ std::string error_table(const std::string& title, const std::vector<std::string>
   return md.str();
 }
 
+// The config of a `full-sync` run: --config's (if any) with segmentation.schedule: sync.
+fs::path sync_config(const std::string& config, const fs::path& run_dir) {
+  YAML::Node root(YAML::NodeType::Map);
+  try {
+    if (!config.empty()) root = YAML::LoadFile(config);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(config + ": " + e.what());
+  }
+  root["segmentation"]["schedule"] = "sync";
+  fs::create_directories(run_dir);
+  const fs::path file = run_dir / "sync.yaml";
+  std::ofstream(file) << root << "\n";
+  return file;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,7 +99,7 @@ int main(int argc, char** argv) {
                                    "walking_halfsphere", "sitting_static", "sitting_xyz",
                                    "sitting_halfsphere", "walking_pushed"};
   std::vector<std::string> modes{"static", "semantic", "geometric", "full"};
-  std::string cache = "out/bench/sequences", out_dir = "out/bench/dynamic", segmenter;
+  std::string cache = "out/bench/sequences", out_dir = "out/bench/dynamic", segmenter, config;
   int frames = -1;
   bool sync = false;
   app.add_option("--presets", presets, "Comma-separated presets")->delimiter(',');
@@ -90,6 +109,7 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames, "Frames per sequence (default: the preset's length)");
   app.add_option("--cache", cache, "Where generated sequences are kept");
   app.add_option("--out", out_dir, "Where tables.md, results.json and the runs go");
+  app.add_option("--config", config, "lrd-slam YAML config for every run")->check(CLI::ExistingFile);
   std::string realism = "clean";
   app.add_option("--realism", realism,
                  "Realism profile of the rendered sequences (docs/synthetic-benchmark.md)")
@@ -117,13 +137,8 @@ int main(int argc, char** argv) {
         const bool full_sync = mode == "full-sync";
         o.mode = full_sync ? "full" : mode;
         o.segmenter = (mode == "static" || mode == "geometric") ? "none" : segmenter;
-        std::optional<fs::path> sync_config;
-        if (full_sync) {
-          fs::create_directories(o.out);
-          sync_config = o.out / "sync.yaml";
-          std::ofstream(*sync_config) << "segmentation:\n  schedule: sync\n";
-          o.config = sync_config;
-        }
+        if (!config.empty()) o.config = fs::path(config);
+        if (full_sync) o.config = sync_config(config, o.out);
         lrd::runner::RunReport report = lrd::runner::run_sequence(o);
         const double y = lrd::bench::run_yardstick_ms(report, y_apart);
         Cell c{preset, mode, y, std::move(report)};

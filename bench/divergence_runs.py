@@ -6,7 +6,7 @@ accepted and rejected, the frames lost and those lost for moving faster than a c
 
     bench/divergence_runs.py [--presets walking_xyz,walking_static,walking_rpy,walking_halfsphere]
                              [--runs 20] [--mode static] [--load 2] [--cache DIR] [--out DIR]
-                             [--bin build/release/bin/lrdslam] [--log-level debug]
+                             [--bin build/release/bin/lrdslam] [--log-level debug] [--config FILE]
 
 --load N starts N busy processes (one per core by default) for the whole hunt, so the threads
 interleave as they do on a loaded robot. Bars (the issue's): in `static` mode no run with a jump
@@ -161,6 +161,7 @@ def main():
     ap.add_argument("--cache", default="out/bench/sequences")
     ap.add_argument("--out", default="out/bench/divergence")
     ap.add_argument("--bin", default="build/release/bin/lrdslam")
+    ap.add_argument("--config", help="an lrd-slam YAML config for every run (a setting against the defaults)")
     ap.add_argument("--log-level", default="info",
                     help="of each run.log; debug logs each frame's live pose and step, printed: the largest step "
                          "and the consecutive keyframes furthest from their true distance")
@@ -183,7 +184,7 @@ def main():
             for run in range(1, a.runs + 1):
                 out = os.path.join(a.out, f"{preset}_{a.mode}_{run}")
                 r = subprocess.run([a.bin, "--log-level", a.log_level, "run", "--sequence", sequence, "--mode", a.mode,
-                                    "--out", out],
+                                    "--out", out] + (["--config", a.config] if a.config else []),
                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
                 os.makedirs(out, exist_ok=True)
                 with open(os.path.join(out, "run.log"), "w") as f:  # the loops and BAs behind a jump

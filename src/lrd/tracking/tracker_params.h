@@ -21,9 +21,9 @@ struct TrackerParams {
   int keyframe_close_points = 100;  // new keyframes create points from at least this many close depths
   // ORB-SLAM2's close-points rule: a keyframe when fewer close points than keyframe_close_tracked
   // are tracked and more than keyframe_close_untracked are not (the view has moved on to nearby
-  // structure the map lacks). Under noisy depth the tracked ones hover near 100 and the rule holds
-  // on most frames (bench/results/performance.md).
-  int keyframe_close_tracked = 100;
+  // structure the map lacks). ORB-SLAM2 asks for 100: under noisy depth the tracked ones hover
+  // near 100, the rule holds on most frames and local mapping fills a core (docs/slam-core.md).
+  int keyframe_close_tracked = 50;
   int keyframe_close_untracked = 70;
   // Keyframe when the tracked close points span less than this share of the extent of all close
   // keypoints, across or down the image: a map seen in one strip of the view leaves rotation and
