@@ -124,6 +124,19 @@ void describe_level_baseline(const LevelImages& in, const Pattern& pattern, std:
 }
 #endif
 
+// Runs level_work(0..n-1): level 0 (a third of the pixels, the most keypoints) is handed to TBB's
+// helper thread first, then `meanwhile` runs here (building the other levels, say) and the other
+// levels go in parallel; without a helper the caller does it all, with the same results.
+template <class Work, class Meanwhile = void (*)()>
+void for_levels_base_first(
+    int n, const Work& level_work, const Meanwhile& meanwhile = [] {}) {
+  tbb::task_group base_level;
+  base_level.run([&] { level_work(0); });
+  meanwhile();
+  tbb::parallel_for(1, n, level_work);
+  base_level.wait();
+}
+
 }  // namespace
 
 OrbExtractor::OrbExtractor(const OrbParams& params)
@@ -249,11 +262,7 @@ void OrbExtractor::detect_and_smooth(const cv::Mat& grey, const cv::Mat& mask) {
     w.smoother.smooth(pyramid_.level(level), w.smoothed);
   };
   pyramid_.set_base(grey);
-  tbb::task_group base_level;
-  base_level.run([&] { level_work(0); });
-  pyramid_.build_levels();
-  tbb::parallel_for(1, levels(), level_work);
-  base_level.wait();
+  for_levels_base_first(levels(), level_work, [&] { pyramid_.build_levels(); });
 }
 
 void OrbExtractor::describe_detected(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints,
@@ -313,10 +322,7 @@ void OrbExtractor::finish(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoi
 #endif
     describe_level_baseline(in, pattern, w.chosen, w.first_row, keypoints, descriptors);
   };
-  tbb::task_group base_level;
-  base_level.run([&] { describe(0); });
-  tbb::parallel_for(1, n, describe);
-  base_level.wait();
+  for_levels_base_first(n, describe);
 }
 
 }  // namespace lrd::features

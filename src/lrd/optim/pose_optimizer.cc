@@ -95,6 +95,8 @@ void refine(const camera::PinholeCamera& cam, const std::vector<PoseObservation>
   Vector6d g, g_candidate;
   double current = linearize(cam, obs, outlier, T, robust, params, &H, &g);
   for (int it = 0; it < params.iterations; ++it) {
+    // The last iteration's accepted step needs no system: its cost alone decides.
+    const bool last = it + 1 == params.iterations;
     bool improved = false;
     for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
       Matrix6d A = H;
@@ -102,8 +104,6 @@ void refine(const camera::PinholeCamera& cam, const std::vector<PoseObservation>
       const Vector6d xi = A.ldlt().solve(-g);
       if (!xi.allFinite() || xi.squaredNorm() < kConverged) return;
       const Eigen::Isometry3d candidate = geometry::orthonormalized(geometry::se3_exp(xi) * T);
-      // The last iteration's accepted step needs no system: its cost alone decides.
-      const bool last = it + 1 == params.iterations;
       const double c = linearize(cam, obs, outlier, candidate, robust, params, last ? nullptr : &H_candidate,
                                  last ? nullptr : &g_candidate);
       if (c < current) {

@@ -383,7 +383,8 @@ void Tracker::update_local_keyframes(data::Frame& frame) {
   // Keyframes sharing points with the frame, by number of shared points: counted on the keyframes
   // themselves rather than in a map rebuilt every frame, then taken in id order.
   const std::uint64_t count_tag = ++sharing_count_pass_;
-  std::vector<map::KeyFrame*> observers;
+  std::vector<map::KeyFrame*>& sharing = sharing_keyframes_;  // scratch: no allocation per frame
+  sharing.clear();
   for (std::size_t i = 0; i < frame.size(); ++i) {
     map::MapPoint* mp = frame.map_points[i];
     if (mp == nullptr) continue;
@@ -395,34 +396,32 @@ void Tracker::update_local_keyframes(data::Frame& frame) {
       if (kf->track_count_for_frame != count_tag) {
         kf->track_count_for_frame = count_tag;
         kf->track_shared_points = 0;
-        observers.push_back(kf);
+        sharing.push_back(kf);
       }
       ++kf->track_shared_points;
     }
   }
-  if (observers.empty()) return;
-  std::sort(observers.begin(), observers.end(), map::ById{});
-  std::vector<std::pair<map::KeyFrame*, int>> sharing;
-  for (map::KeyFrame* kf : observers)
-    if (!kf->is_bad()) sharing.emplace_back(kf, kf->track_shared_points);
+  if (sharing.empty()) return;
+  std::sort(sharing.begin(), sharing.end(), map::ById{});
+  std::erase_if(sharing, [](const map::KeyFrame* kf) { return kf->is_bad(); });
   const std::uint64_t tag = search_pass_;
   const auto max_kfs = static_cast<std::size_t>(params_.max_local_keyframes);
   // At most max_local_keyframes of them, those sharing the most (issue 23: where laps pile up
   // keyframes over the same room, every one sharing a few points would enter, and tracking's cost
   // would grow with the time spent there); kept in id order, as below the cap.
   if (sharing.size() > max_kfs) {
-    std::stable_sort(sharing.begin(), sharing.end(),
-                     [](const auto& a, const auto& b) { return a.second > b.second; });
+    std::stable_sort(sharing.begin(), sharing.end(), [](const map::KeyFrame* a, const map::KeyFrame* b) {
+      return a->track_shared_points > b->track_shared_points;
+    });
     sharing.resize(max_kfs);
-    std::sort(sharing.begin(), sharing.end(),
-              [](const auto& a, const auto& b) { return a.first->id() < b.first->id(); });
+    std::sort(sharing.begin(), sharing.end(), map::ById{});
   }
   local_keyframes_.clear();
   map::KeyFrame* best = nullptr;
   int best_count = 0;
-  for (const auto& [kf, n] : sharing) {
-    if (n > best_count) {
-      best_count = n;
+  for (map::KeyFrame* kf : sharing) {
+    if (kf->track_shared_points > best_count) {
+      best_count = kf->track_shared_points;
       best = kf;
     }
     local_keyframes_.push_back(kf);

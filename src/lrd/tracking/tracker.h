@@ -204,6 +204,7 @@ class Tracker {
   // Tags map points and keyframes met by one search of the map (a frame may be searched twice).
   std::uint64_t search_pass_ = 0;
   std::uint64_t sharing_count_pass_ = 0;  // tags KeyFrame::track_shared_points (update_local_keyframes)
+  std::vector<map::KeyFrame*> sharing_keyframes_;  // update_local_keyframes' scratch list
   // This frame was tracked again from an earlier pose: no velocity or tracking link from the last.
   bool restarted_motion_ = false;
   // Where the stride of the first frame flagged and kept since the last stride within the limit
