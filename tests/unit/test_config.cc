@@ -243,7 +243,8 @@ TEST_F(ConfigTest, ShippedDefaultTrackingAndMappingSectionsMatchCodeDefaults) {
   EXPECT_EQ(m.local_ba, md.local_ba);
   EXPECT_EQ(m.ba.first_iterations, md.ba.first_iterations);
   EXPECT_EQ(m.ba.second_iterations, md.ba.second_iterations);
-  EXPECT_DOUBLE_EQ(m.redundant_ratio, md.redundant_ratio);
+  EXPECT_DOUBLE_EQ(m.culling.redundant_ratio, md.culling.redundant_ratio);
+  EXPECT_DOUBLE_EQ(m.culling.place_redundant_ratio, md.culling.place_redundant_ratio);
   EXPECT_EQ(m.max_queued, md.max_queued);
 }
 
@@ -262,6 +263,14 @@ TEST_F(ConfigTest, TrackingAndMappingKeysAreChecked) {
     FAIL() << "out-of-range value accepted";
   } catch (const lrd::Error& e) {
     EXPECT_TRUE(contains(e.what(), "mapping.redundant_ratio")) << e.what();
+  }
+  const auto place =
+      load_config(write("p.yaml", "mapping:\n  place_angle_deg: 5\n  place_keyframes_apart: 0\n"));
+  try {
+    (void)lrd::mapping::LocalMapperParams::from_config(place.mapping);
+    FAIL() << "out-of-range value accepted";
+  } catch (const lrd::Error& e) {
+    EXPECT_TRUE(contains(e.what(), "mapping.place_keyframes_apart")) << e.what();
   }
 }
 

@@ -42,10 +42,20 @@ LocalMapperParams LocalMapperParams::from_config(config::NodeReader r) {
   p.ba.max_odometry_change_deg = r.get("ba_max_odometry_change_deg", p.ba.max_odometry_change_deg);
   r.check(p.ba.max_odometry_change_deg > 0.0, "ba_max_odometry_change_deg", "must be > 0");
   p.keyframe_culling = r.get("keyframe_culling", p.keyframe_culling);
-  p.redundant_ratio = r.get("redundant_ratio", p.redundant_ratio);
-  r.check(p.redundant_ratio > 0.0 && p.redundant_ratio <= 1.0, "redundant_ratio", "must be in (0, 1]");
-  p.redundant_observers = r.get("redundant_observers", p.redundant_observers);
-  r.check(p.redundant_observers >= 1, "redundant_observers", "must be >= 1");
+  KeyFrameCullingParams& c = p.culling;
+  c.redundant_ratio = r.get("redundant_ratio", c.redundant_ratio);
+  r.check(c.redundant_ratio > 0.0 && c.redundant_ratio <= 1.0, "redundant_ratio", "must be in (0, 1]");
+  c.redundant_observers = r.get("redundant_observers", c.redundant_observers);
+  r.check(c.redundant_observers >= 1, "redundant_observers", "must be >= 1");
+  c.place_redundant_ratio = r.get("place_redundant_ratio", c.place_redundant_ratio);
+  r.check(c.place_redundant_ratio >= 0.0 && c.place_redundant_ratio <= 1.0, "place_redundant_ratio",
+          "must be in [0, 1] (0: no place rule)");
+  c.place_baseline_ratio = r.get("place_baseline_ratio", c.place_baseline_ratio);
+  r.check(c.place_baseline_ratio > 0.0, "place_baseline_ratio", "must be > 0");
+  c.place_angle_deg = r.get("place_angle_deg", c.place_angle_deg);
+  r.check(c.place_angle_deg > 0.0 && c.place_angle_deg < 90.0, "place_angle_deg", "must be in (0, 90)");
+  c.place_keyframes_apart = r.get("place_keyframes_apart", c.place_keyframes_apart);
+  r.check(c.place_keyframes_apart >= 1, "place_keyframes_apart", "must be >= 1");
   p.max_queued = r.get("max_queued", p.max_queued);
   r.check(p.max_queued >= 1, "max_queued", "must be >= 1");
   r.finish();
@@ -367,36 +377,19 @@ void LocalMapper::cull_keyframes(map::KeyFrame* kf) {
   std::lock_guard lock(map_.mutex());
   if (kf->is_bad()) return;
   const std::vector<map::KeyFrame*> local = kf->ordered_covisibles();
-  const int needed = params_.redundant_observers;
   std::uint64_t culled = 0;
   for (map::KeyFrame* k2 : local) {
     if (k2->id() == 0 || k2->is_bad()) continue;
-    const data::Frame& f2 = k2->features();
-    const double close = f2.camera().close_depth_threshold();
-    int n_points = 0, redundant = 0;
-    const auto& points = k2->map_points();
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      map::MapPoint* mp = points[i];
-      if (mp == nullptr || mp->is_bad()) continue;
-      // RGB-D: only close points count (far ones are weakly constrained).
-      if (f2.depth(i) > close || f2.depth(i) < 0.0f) continue;
-      ++n_points;
-      if (mp->num_observations() <= needed) continue;
-      const int level = f2.undistorted()[i].octave;
-      int observers = 0;
-      for (const auto& [k3, idx3] : mp->observations()) {
-        if (k3 == k2) continue;
-        if (k3->features().undistorted()[idx3].octave <= level + 1 && ++observers >= needed) break;
-      }
-      if (observers >= needed) ++redundant;
-    }
-    if (n_points > 0 && redundant > params_.redundant_ratio * n_points) {
-      k2->set_bad();  // refused for a keyframe on a loop edge or examined by loop closing
-      if (!k2->is_bad()) continue;
-      // Indexed here, so dropped from the index here: it may be freed once every thread let go.
-      if (database_ != nullptr) database_->erase(k2);
-      ++culled;
-    }
+    const CullingDecision d = judge_redundancy(*k2, kf->id(), params_.culling);
+    if (!d.cull) continue;
+    k2->set_bad();  // refused for a keyframe on a loop edge or examined by loop closing
+    if (!k2->is_bad()) continue;
+    // Indexed here, so dropped from the index here: it may be freed once every thread let go.
+    if (database_ != nullptr) database_->erase(k2);
+    ++culled;
+    if (d.same_place != nullptr)
+      spdlog::debug("keyframe {} culled: at the place of keyframe {}, {} of {} close points seen by others",
+                    k2->id(), d.same_place->id(), d.points.redundant, d.points.close_points);
   }
   std::lock_guard slock(stats_mutex_);
   stats_.culled_keyframes += culled;

@@ -16,6 +16,7 @@
 
 #include "lrd/config/node_reader.h"
 #include "lrd/map/reclamation.h"
+#include "lrd/mapping/keyframe_culling.h"
 #include "lrd/match/orb_matcher.h"
 #include "lrd/optim/local_bundle_adjuster.h"
 #include "lrd/util/thread_errors.h"
@@ -40,9 +41,8 @@ struct LocalMapperParams {
   bool local_ba = true;
   optim::LocalBundleAdjustmentParams ba;
   bool keyframe_culling = true;
-  double redundant_ratio = 0.9;  // a keyframe goes when this share of its points ...
-  int redundant_observers = 3;   // ... is seen by this many other keyframes at a similar scale
-  int max_queued = 3;            // tracking stops proposing keyframes beyond this queue length
+  KeyFrameCullingParams culling;
+  int max_queued = 3;  // tracking stops proposing keyframes beyond this queue length
 
   // Reads the `mapping` section of the config (and finishes it).
   static LocalMapperParams from_config(config::NodeReader reader);
