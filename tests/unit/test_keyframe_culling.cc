@@ -71,7 +71,7 @@ struct Revisit {
   }
 };
 
-// A revisit from the same place that knows 70 % of what it sees (every point but each third).
+// A revisit from the same place that knows two thirds of what it sees (every point but each third).
 TEST(KeyFrameCulling, ARevisitAtAnOlderKeyFramesPlaceGoesOnceTheCameraHasLeft) {
   const Revisit r(Eigen::Isometry3d::Identity(), 0, 3);
   ASSERT_GT(r.matched, 300);
@@ -97,11 +97,12 @@ TEST(KeyFrameCulling, ARevisitAtAnOlderKeyFramesPlaceGoesOnceTheCameraHasLeft) {
   const CullingDecision oldest = r.judge(14, apart);
   EXPECT_TRUE(oldest.cull);
   EXPECT_EQ(oldest.same_place, r.first[0]);
-  // ORB-SLAM2's rule alone keeps it (70 % < 90 %).
+  // ORB-SLAM2's rule alone keeps it (two thirds < 90 %).
   KeyFrameCullingParams orb;
   orb.place_redundant_ratio = 0.0;
-  EXPECT_FALSE(r.judge(10, orb).cull);
-  EXPECT_EQ(r.judge(10, orb).same_place, nullptr);
+  const CullingDecision by_points = r.judge(10, orb);
+  EXPECT_FALSE(by_points.cull);
+  EXPECT_EQ(by_points.same_place, nullptr);
 }
 
 // Knowing every point, ORB-SLAM2's rule decides, at any age, without the place.

@@ -36,13 +36,14 @@ const map::KeyFrame* older_keyframe_at_same_place(const map::KeyFrame& kf,
   const double max_baseline = params.place_baseline_ratio * depth;
   const double min_cos = std::cos(params.place_angle_deg * M_PI / 180.0);
   const Eigen::Vector3d centre = kf.camera_center();
-  // The optical axis in the world: the third row of R_cw.
-  const Eigen::RowVector3d axis = kf.T_cw().rotation().row(2);
+  // The optical axis in the world: the third row of R_cw (orthonormal: linear(), not rotation(),
+  // which would decompose the matrix for each keyframe compared).
+  const Eigen::RowVector3d axis = kf.T_cw().linear().row(2);
   for (const map::KeyFrame* other : kf.ordered_covisibles()) {
     if (other->id() + static_cast<std::uint64_t>(params.place_keyframes_apart) > kf.id() || other->is_bad())
       continue;
     if ((other->camera_center() - centre).norm() > max_baseline) continue;
-    if (other->T_cw().rotation().row(2).dot(axis) < min_cos) continue;
+    if (other->T_cw().linear().row(2).dot(axis) < min_cos) continue;
     return other;
   }
   return nullptr;
