@@ -116,3 +116,33 @@ TEST(MaskCarry, AtHalfResolutionTheExactResultIsCoveredWithinAFewPixels) {
       }
   }
 }
+
+// An image of odd width and height (the last blocks are one pixel wide or tall, and the last
+// column and row must still be carried), and a frame without depth (every block stays where it
+// was): the exact result is still covered, within a few pixels.
+TEST(MaskCarry, OddSizesAndFramesWithoutDepthAreCoveredToo) {
+  const auto& cam = mask_carry::tum3();
+  const cv::Mat mask = mask_carry::blobs(8)(cv::Rect(319, 0, 321, 241)).clone();  // the border run included
+  cv::Mat depth(mask.size(), CV_32F, cv::Scalar(1.5f));
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0.03, -0.02, 0.05);
+  for (const bool with_depth : {true, false}) {
+    const cv::Mat d = with_depth ? depth : cv::Mat();
+    for (const int radius : {9, 13}) {
+      SCOPED_TRACE(testing::Message() << "depth " << with_depth << " radius " << radius);
+      cv::Mat exact = lrd::dynamic::propagate_mask(mask, d, T, cam);
+      lrd::dynamic::dilate_mask(exact, radius);
+      cv::Mat near = mask.clone();
+      lrd::dynamic::dilate_mask(near, 2);
+      cv::Mat generous = lrd::dynamic::propagate_mask(near, d, T, cam);
+      lrd::dynamic::dilate_mask(generous, radius + 7);
+      const cv::Mat carried = lrd::dynamic::carry_mask(mask, d, T, cam, radius);
+      ASSERT_EQ(carried.size(), mask.size());
+      EXPECT_GT(cv::countNonZero(exact), 1000);
+      EXPECT_EQ(mask_carry::outside(exact, carried), 0);
+      EXPECT_EQ(mask_carry::outside(carried, generous), 0);
+      // The border run (top right) still reaches the last column (moved right, or staying).
+      EXPECT_NE(carried.at<std::uint8_t>(0, mask.cols - 1), 0);
+    }
+  }
+}

@@ -99,10 +99,7 @@ SemanticMask DynamicFrontEnd::mask(std::uint64_t id, const cv::Mat& depth,
     if (predicted_T_cw && it != recent_.end() && it->T_cw)
       mask = carry_mask(result->mask, it->depth, *predicted_T_cw * it->T_cw->inverse(), camera_, dilation);
   }
-  if (mask.empty()) {
-    mask = result->mask.clone();  // dilated in place; the worker keeps its copy
-    dilate_mask(mask, dilation);
-  }
+  if (mask.empty()) mask = dilated_mask(result->mask, dilation);  // a new buffer: the worker keeps its mask
   out.mask = mask;
   return out;
 }

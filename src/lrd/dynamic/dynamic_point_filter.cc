@@ -180,8 +180,7 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
   grow.step = params_.grow_step;
   grow.band = params_.grow_band;
   grow.extent = params_.grow_extent;
-  r.mask = grow_regions(depth, seeds, cam.fx, cam.fy, grow);
-  dilate_mask(r.mask, params_.region_dilation_px);
+  r.mask = dilated_mask(grow_regions(depth, seeds, cam.fx, cam.fy, grow), params_.region_dilation_px);
   for (std::size_t i = 0; i < frame.size(); ++i) {
     const cv::Point2f& p = frame.keypoints()[i].pt;
     const int u = std::clamp(static_cast<int>(std::lround(p.x)), 0, r.mask.cols - 1);

@@ -18,6 +18,8 @@ namespace lrd::dynamic {
 // Grows nonzero pixels by a disc of `radius` pixels (in place, set pixels become 255; radius 0:
 // unchanged).
 void dilate_mask(cv::Mat& mask, int radius);
+// The same into a new mask (`mask` untouched; radius 0: a copy): no copy back into the caller's buffer.
+[[nodiscard]] cv::Mat dilated_mask(const cv::Mat& mask, int radius);
 
 // From this radius on, carry_mask works at half resolution.
 inline constexpr int kHalfResolutionRadius = 9;
