@@ -2,8 +2,8 @@
 // ORB-SLAM2's (90 % of the close points seen by three others) and the place rule for a camera that
 // comes back — a revisit keyframe at the place of a keyframe made ten or more keyframes before it
 // goes when half its points are seen by three others, but not while it is among the last ten
-// keyframes made, not from another place (baseline over 3 % of the scene depth, or the view turned
-// by over 5 degrees), and not when too few of its points are known.
+// keyframes made, not from another place (baseline over 4.5 % of the scene depth, or the view turned
+// by over 7 degrees), and not when too few of its points are known.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -122,26 +122,26 @@ TEST(KeyFrameCulling, ARevisitKnowingTooLittleStays) {
   EXPECT_EQ(d.points.redundant, r.matched);
 }
 
-// The place: within 3 % of the median scene depth (2.2 m: 6.6 cm) and 5 degrees.
+// The place: within 4.5 % of the median scene depth (2.2 m: 9.9 cm) and 7 degrees.
 TEST(KeyFrameCulling, OnlyAKeyFrameAtTheSamePlaceIsARevisit) {
   using lrd::test::pose;
   const double deg = M_PI / 180.0;
-  const Revisit near(pose(0.0, 3.0 * deg, 0.0, -0.04, 0.0, 0.0), 0, 3);  // 4 cm, 3 degrees
+  const Revisit near(pose(0.0, 5.0 * deg, 0.0, -0.07, 0.0, 0.0), 0, 3);  // 7 cm, 5 degrees
   ASSERT_GT(near.share(), 0.5);
   EXPECT_TRUE(near.judge(10).cull);
   EXPECT_NE(near.judge(10).same_place, nullptr);
 
-  const Revisit aside(pose(0.0, 0.0, 0.0, -0.09, 0.0, 0.0), 0, 3);  // 9 cm
+  const Revisit aside(pose(0.0, 0.0, 0.0, -0.12, 0.0, 0.0), 0, 3);  // 12 cm
   ASSERT_GT(aside.share(), 0.5);
   EXPECT_FALSE(aside.judge(10).cull);
   KeyFrameCullingParams wider;  // the same keyframe with a looser place
-  wider.place_baseline_ratio = 0.05;
+  wider.place_baseline_ratio = 0.06;
   EXPECT_TRUE(aside.judge(10, wider).cull);
 
-  const Revisit turned(pose(0.0, 7.0 * deg, 0.0, 0.0, 0.0, 0.0), 0, 3);  // 7 degrees
+  const Revisit turned(pose(0.0, 9.0 * deg, 0.0, 0.0, 0.0, 0.0), 0, 3);  // 9 degrees
   ASSERT_GT(turned.share(), 0.5);
   EXPECT_FALSE(turned.judge(10).cull);
-  wider.place_angle_deg = 8.0;
+  wider.place_angle_deg = 10.0;
   EXPECT_TRUE(turned.judge(10, wider).cull);
 }
 

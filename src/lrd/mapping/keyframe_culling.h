@@ -27,8 +27,8 @@ struct KeyFrameCullingParams {
   // keyframes earlier, within `place_baseline_ratio` of the median scene depth and
   // `place_angle_deg` between the optical axes, and this share of the points seen by three others.
   double place_redundant_ratio = 0.5;
-  double place_baseline_ratio = 0.03;
-  double place_angle_deg = 5.0;
+  double place_baseline_ratio = 0.045;
+  double place_angle_deg = 7.0;
   // Judged only once this many keyframes have been made after it, too: while the camera is still
   // there, the points it saw between people are what tracking holds on to (walking_circle, frame
   // 1,087: culling the last two cost 2.8 cm).
