@@ -261,8 +261,9 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
     depth.convertTo(depth_m, CV_32F, 1.0 / cam.depth_map_factor);
   else
     depth_m = depth;
-  // The front end keeps the depth of recent frames: its own copy, not the caller's buffer.
-  const bool keeps_depth = p.front_end.uses_segmentation() && depth.type() == CV_32FC1;
+  // The front end keeps the depth of the recent frames the network sees: its own copy, not the
+  // caller's buffer (1.2 MB at 640x480, copied only where it is kept).
+  const bool keeps_depth = p.front_end.keeps_depth_of(id) && depth.type() == CV_32FC1;
   cv::Mat dynamic_mask = mask;
   auto extraction = data::Frame::Extraction::Full;
   if (p.front_end.uses_segmentation()) p.extractor.detect(grey);

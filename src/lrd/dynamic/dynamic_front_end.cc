@@ -17,7 +17,7 @@
 namespace lrd::dynamic {
 
 namespace {
-// Frames kept to carry an older mask over to the current one.
+// How many frames back a mask can be carried over from (the history of the frames the network saw).
 constexpr std::size_t kRecentFrames = 30;
 
 std::unique_ptr<segmentation::Segmenter> make_segmenter(const segmentation::SegmentationParams& p) {
@@ -139,10 +139,10 @@ GeometryStats DynamicFrontEnd::remove_moving_points(data::Frame& f,
 
 void DynamicFrontEnd::frame_done(std::uint64_t id, const std::optional<Eigen::Isometry3d>& T_cw,
                                  cv::Mat own_depth) {
-  // Only a carried-over mask needs the history.
+  // Only a carried-over mask needs the history, and only from the frames the network was given.
   if (worker_) {
-    recent_.push_back({id, own_depth.empty() ? current_depth_ : own_depth, T_cw});
-    if (recent_.size() > kRecentFrames) recent_.pop_front();
+    if (keeps_depth_of(id)) recent_.push_back({id, own_depth.empty() ? current_depth_ : own_depth, T_cw});
+    while (!recent_.empty() && recent_.front().id + kRecentFrames <= id) recent_.pop_front();
   }
   current_depth_ = cv::Mat();
 }

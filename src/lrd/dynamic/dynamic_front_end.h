@@ -67,6 +67,9 @@ class DynamicFrontEnd final : public MovingPointCheck {
   [[nodiscard]] SemanticMask mask(std::uint64_t id, const cv::Mat& depth,
                                   const std::optional<Eigen::Isometry3d>& predicted_T_cw);
   GeometryStats remove_moving_points(data::Frame& frame, const std::vector<map::KeyFrame*>& nearby) override;
+  // Whether frame_done keeps frame `id`'s depth: only a frame the network is given can lend its
+  // mask to a later one (the carry-over reads the mask's own depth).
+  [[nodiscard]] bool keeps_depth_of(std::uint64_t id) const { return worker_ != nullptr && network_sees(id); }
   // Frame `id` is tracked (T_cw) or lost (empty). `own_depth`: the frame's depth for the history
   // when the one given to mask() is the caller's buffer (empty: keep that one).
   void frame_done(std::uint64_t id, const std::optional<Eigen::Isometry3d>& T_cw, cv::Mat own_depth = {});

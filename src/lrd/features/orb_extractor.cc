@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -29,23 +28,26 @@ const OrbParams& validated(const OrbParams& p) {
   return p;  // n_levels and scale_factor are checked by ImagePyramid
 }
 
-// Intensity-centroid orientation (Rosin 1999; Rublee et al. 2011, sec. 3.2); u_max: the disc's
-// half-width per row offset.
-[[gnu::always_inline]] inline void orient(const cv::Mat& image, cv::KeyPoint& kp, const int* u_max) {
+// Intensity-centroid orientation (Rosin 1999; Rublee et al. 2011, sec. 3.2): the moments
+// m10 = sum u I and m01 = sum v I over the disc, each row a 32-pixel dot product with the disc's
+// weights, which vectorises (integers: the same sums in any order).
+[[gnu::always_inline]] inline void orient(const cv::Mat& image, cv::KeyPoint& kp,
+                                          const OrbExtractor::DiscWeights& disc) {
   const std::uint8_t* centre = image.ptr<std::uint8_t>(cvRound(kp.pt.y)) + cvRound(kp.pt.x);
   const auto step = static_cast<std::ptrdiff_t>(image.step1());
-  // Moments m10 = sum u I, m01 = sum v I over the disc; rows +v and -v are taken together.
   int m10 = 0, m01 = 0;
-  for (int u = -kHalfPatch; u <= kHalfPatch; ++u) m10 += u * centre[u];
-  for (int v = 1; v <= kHalfPatch; ++v) {
-    const std::uint8_t* below = centre + v * step;
-    const std::uint8_t* above = centre - v * step;
-    int v_sum = 0;
-    for (int u = -u_max[v]; u <= u_max[v]; ++u) {
-      v_sum += below[u] - above[u];
-      m10 += u * (below[u] + above[u]);
+  for (int v = -kHalfPatch; v <= kHalfPatch; ++v) {
+    const std::uint8_t* row = centre + v * step - kHalfPatch;  // to u = 16, inside the level: kEdge > 16
+    const std::int16_t* by_u = disc.u[v + kHalfPatch];
+    const std::int16_t* inside = disc.inside[v + kHalfPatch];
+    int row_m10 = 0, row_sum = 0;
+    for (int x = 0; x < 32; ++x) {
+      const std::int16_t pixel = row[x];
+      row_m10 += by_u[x] * pixel;
+      row_sum += inside[x] * pixel;
     }
-    m01 += v * v_sum;
+    m10 += row_m10;
+    m01 += v * row_sum;
   }
   float angle =
       std::atan2(static_cast<float>(m01), static_cast<float>(m10)) * (180.0f / std::numbers::pi_v<float>);
@@ -90,7 +92,7 @@ struct LevelImages {
   int level;
 };
 struct Pattern {
-  const int* u_max;
+  const OrbExtractor::DiscWeights* disc;
   const float* x;
   const float* y;
 };
@@ -104,7 +106,7 @@ struct Pattern {
                                                   cv::Mat& descriptors) {
   const float size = static_cast<float>(OrbExtractor::kPatchSize) * in.pyramid.scale_factors()[in.level];
   for (cv::KeyPoint& kp : chosen) {
-    orient(in.image, kp, pattern.u_max);
+    orient(in.image, kp, *pattern.disc);
     describe(in.smoothed, kp, pattern.x, pattern.y, descriptors.ptr<std::uint8_t>(row));
     keypoints[row++] =
         cv::KeyPoint(in.pyramid.to_base(in.level, kp.pt.x, kp.pt.y), size, kp.angle, kp.response, in.level);
@@ -158,14 +160,19 @@ OrbExtractor::OrbExtractor(const OrbParams& params)
   }
   per_level_[0] = std::max(0, params_.n_features - assigned);
 
-  // Rows of the circular orientation patch: |u| <= u_max_[|v|], i.e. u^2 + v^2 <= (R + 1/2)^2. A
-  // rule on u^2 + v^2 keeps the disc symmetric under 90-degree turns, so turning the image by 90
-  // degrees turns the angle by exactly 90.
+  // The circular orientation patch: |u| <= u_max[|v|], i.e. u^2 + v^2 <= (R + 1/2)^2. A rule on
+  // u^2 + v^2 keeps the disc symmetric under 90-degree turns, so turning the image by 90 degrees
+  // turns the angle by exactly 90.
   const int limit = kHalfPatch * kHalfPatch + kHalfPatch;  // floor((R + 1/2)^2)
-  for (int v = 0; v <= kHalfPatch; ++v) {
-    int u = 0;
-    while ((u + 1) * (u + 1) + v * v <= limit) ++u;
-    u_max_.push_back(u);
+  for (int v = -kHalfPatch; v <= kHalfPatch; ++v) {
+    int u_max = 0;
+    while ((u_max + 1) * (u_max + 1) + v * v <= limit) ++u_max;
+    for (int x = 0; x < 32; ++x) {
+      const int u = x - kHalfPatch;
+      const bool inside = std::abs(u) <= u_max;  // x = 31 (u = 16) is always outside
+      disc_.u[v + kHalfPatch][x] = static_cast<std::int16_t>(inside ? u : 0);
+      disc_.inside[v + kHalfPatch][x] = inside ? 1 : 0;
+    }
   }
   work_.resize(n);
   int i = 0;
@@ -179,7 +186,7 @@ void OrbExtractor::detect(int level, const cv::Mat& mask, LevelWork& work) const
   std::vector<cv::KeyPoint>& corners = work.corners;
   corners.clear();
   const cv::Mat& image = pyramid_.level(level);
-  // Corners may lie in [kEdge, size - kEdge); FAST needs 3 more pixels around what it searches.
+  // Corners may lie in [kEdge, size - kEdge); FAST reads 3 more pixels around what it scores.
   const cv::Rect area(kEdge, kEdge, image.cols - 2 * kEdge, image.rows - 2 * kEdge);
   if (area.width < 1 || area.height < 1) return;
   const int cells_x = std::max(1, area.width / kCellSize);
@@ -188,12 +195,12 @@ void OrbExtractor::detect(int level, const cv::Mat& mask, LevelWork& work) const
   const int cell_h = (area.height + cells_y - 1) / cells_y;
   work.cell_strong.assign(static_cast<std::size_t>(cells_x) * cells_y, 0);
 
-  // Keeps the unmasked corners FAST found in `roi` (shifted to level coordinates).
-  auto collect = [&](const cv::Rect& roi, int threshold) {
-    cv::FAST(image(roi), work.found, threshold, true, cv::FastFeatureDetector::TYPE_9_16);
-    for (cv::KeyPoint kp : work.found) {
-      kp.pt.x += static_cast<float>(roi.x);
-      kp.pt.y += static_cast<float>(roi.y);
+  // Keeps the unmasked FAST corners of `region` (level coordinates) at `threshold`.
+  work.scores.compute(image, area, params_.min_th_fast);
+  auto collect = [&](const cv::Rect& region, int threshold) {
+    work.found.clear();
+    work.scores.corners(region, threshold, work.found);
+    for (const cv::KeyPoint& kp : work.found) {
       if (!mask.empty()) {
         const cv::Point2f p = pyramid_.to_base(level, kp.pt.x, kp.pt.y);
         const int mx = std::clamp(cvRound(p.x), 0, mask.cols - 1);
@@ -203,12 +210,11 @@ void OrbExtractor::detect(int level, const cv::Mat& mask, LevelWork& work) const
       corners.push_back(kp);
     }
   };
-  auto grown = [](const cv::Rect& r) { return cv::Rect(r.x - 3, r.y - 3, r.width + 6, r.height + 6); };
 
   // High threshold over the whole level first; then the low one, as ORB-SLAM2 does, only in the
   // cells left without a corner, so low-contrast regions still get features without letting weak
   // corners crowd strong ones elsewhere.
-  collect(grown(area), params_.ini_th_fast);
+  collect(area, params_.ini_th_fast);
   for (const cv::KeyPoint& kp : corners) {
     const int cx = (static_cast<int>(kp.pt.x) - area.x) / cell_w;
     const int cy = (static_cast<int>(kp.pt.y) - area.y) / cell_h;
@@ -216,7 +222,8 @@ void OrbExtractor::detect(int level, const cv::Mat& mask, LevelWork& work) const
   }
   for (int cy = 0; cy < cells_y; ++cy) {
     const char* strong = work.cell_strong.data() + static_cast<std::size_t>(cy) * cells_x;
-    // A run of weak cells in a row is searched in one call: fewer calls, less overlap.
+    // A run of weak cells in a row is one region: its corners are suppressed only by neighbours
+    // inside it, as when each run was searched by its own cv::FAST call.
     for (int cx = 0; cx < cells_x;) {
       if (strong[cx]) {
         ++cx;
@@ -226,7 +233,7 @@ void OrbExtractor::detect(int level, const cv::Mat& mask, LevelWork& work) const
       while (cx < cells_x && !strong[cx]) ++cx;
       const cv::Rect run =
           cv::Rect(area.x + first * cell_w, area.y + cy * cell_h, (cx - first) * cell_w, cell_h) & area;
-      if (!run.empty()) collect(grown(run), params_.min_th_fast);
+      if (!run.empty()) collect(run, params_.min_th_fast);
     }
   }
 }
@@ -313,7 +320,7 @@ void OrbExtractor::finish(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoi
     // Smoothed (detect_and_smooth) so that the binary tests are robust to noise (Rublee et al.
     // 2011, sec. 4).
     const LevelImages in{pyramid_.level(level), w.smoothed, pyramid_, level};
-    const Pattern pattern{u_max_.data(), pattern_x_.data(), pattern_y_.data()};
+    const Pattern pattern{&disc_, pattern_x_.data(), pattern_y_.data()};
 #ifdef LRD_AVX2_COPIES
     if (util::cpu_has_avx2()) {
       describe_level_avx2(in, pattern, w.chosen, w.first_row, keypoints, descriptors);

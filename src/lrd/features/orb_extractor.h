@@ -4,9 +4,11 @@
 // grid cell with a high threshold and a low fallback, spread by a quadtree to the requested
 // count, oriented by the intensity centroid and described by 256-bit steered BRIEF.
 #include <array>
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "lrd/features/fast_scores.h"
 #include "lrd/features/gaussian_smoother.h"
 #include "lrd/features/image_pyramid.h"
 #include "lrd/features/orb_params.h"
@@ -56,9 +58,18 @@ class OrbExtractor {
   static constexpr int kDescriptorBits = 256;
   static constexpr int kDescriptorBytes = kDescriptorBits / 8;
 
+  // The orientation disc as weights over 32-pixel rows from -kPatchSize / 2, one per row offset
+  // -kPatchSize / 2 .. kPatchSize / 2: a column's u inside the disc (0 outside), and 1 inside.
+  struct DiscWeights {
+    std::int16_t u[kPatchSize][32];
+    std::int16_t inside[kPatchSize][32];
+  };
+  static_assert(kPatchSize < 32);
+
  private:
   // What one pyramid level works with; levels run in parallel, each on its own.
   struct LevelWork {
+    FastScores scores;                         // every pixel's FAST score, both thresholds read it
     std::vector<cv::KeyPoint> corners, found;  // FAST output, level coordinates
     std::vector<cv::KeyPoint> chosen;          // after the quadtree, level coordinates
     std::vector<char> cell_strong;
@@ -81,7 +92,7 @@ class OrbExtractor {
   QuadtreeDistributor distributor_;
   std::vector<float> sigma2_, inv_sigma2_;
   std::vector<int> per_level_;
-  std::vector<int> u_max_;  // half-width of the orientation disc per row offset
+  DiscWeights disc_{};
   std::array<float, 2 * kDescriptorBits> pattern_x_, pattern_y_;  // brief_pattern(), point by point
   std::vector<LevelWork> work_;                                   // kept between calls
 };
