@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "lrd/features/fast_scores.h"
+#include "lrd/util/cpu_features.h"
 
 using lrd::features::FastScores;
 
@@ -48,7 +49,18 @@ int differences(const std::vector<cv::KeyPoint>& a, const std::vector<cv::KeyPoi
 
 }  // namespace
 
-TEST(FastScores, CornersAreOpenCvsFastOverTheWholeAreaAtEveryThreshold) {
+// Both copies of the loops (AVX2 where the CPU has it, and the SSE2 baseline) give the same corners.
+class FastScoresCopies : public testing::TestWithParam<bool> {
+ protected:
+  void SetUp() override { lrd::util::use_baseline_copies_only(GetParam()); }
+  void TearDown() override { lrd::util::use_baseline_copies_only(false); }
+};
+INSTANTIATE_TEST_SUITE_P(Copies, FastScoresCopies, testing::Values(false, true),
+                         [](const testing::TestParamInfo<bool>& info) {
+                           return info.param ? "Baseline" : "Native";
+                         });
+
+TEST_P(FastScoresCopies, CornersAreOpenCvsFastOverTheWholeAreaAtEveryThreshold) {
   FastScores scores;
   int compared = 0;
   for (const cv::Size size : {cv::Size(640, 480), cv::Size(157, 93), cv::Size(40, 30), cv::Size(9, 9)}) {
@@ -72,7 +84,7 @@ TEST(FastScores, CornersAreOpenCvsFastOverTheWholeAreaAtEveryThreshold) {
 // Regions (the extractor's runs of weak cells): a corner on a region's edge is suppressed only by
 // neighbours inside the region, as cv::FAST on the region alone; widths around the 32-pixel
 // blocks and one-pixel strips included.
-TEST(FastScores, CornersOfARegionAreOpenCvsFastOnThatRegion) {
+TEST_P(FastScoresCopies, CornersOfARegionAreOpenCvsFastOnThatRegion) {
   const cv::Mat image = textured(cv::Size(320, 240), 1.0, 4.0, 5);
   const cv::Rect area(19, 19, 320 - 38, 240 - 38);
   FastScores scores;
