@@ -41,6 +41,7 @@ void project_points(const map::KeyFrame& kf, const Eigen::Isometry3d& T_cw, cons
                     cv::Size size, double max_depth, int margin, std::vector<Projection>& out) {
   out.clear();
   const data::Frame& f = kf.features();
+  out.reserve(f.size());  // one allocation a frame, not one per doubling
   const Eigen::Isometry3d T_w_kf = kf.T_wc();
   for (std::size_t i = 0; i < f.size(); ++i) {
     const float z_kf = f.depth(i);

@@ -27,8 +27,6 @@ class FastScores {
   // threshold, true) finds, shifted to image coordinates.
   void corners(const cv::Rect& region, int threshold, std::vector<cv::KeyPoint>& out);
 
-  [[nodiscard]] const cv::Rect& area() const { return area_; }
-
  private:
   cv::Mat scores_;  // CV_8U, area-sized
   cv::Rect area_;
