@@ -297,28 +297,36 @@ TEST(OrbExtractor, DeterministicBits) {
   }
 }
 
-// Level 0's corners and every level's smoothing are handed to TBB's helper while the pyramid is
-// built: with no helper at all (one thread) the caller does that work itself, with the same bits.
+// Each level's corners and smoothing go to TBB as soon as the level is built, and each level is
+// described as soon as its keypoints are chosen: with no helper at all (one thread) the caller
+// does all of it itself, with the same bits, with and without a mask.
 TEST(OrbExtractor, SameBitsWithoutAHelperThread) {
   const cv::Mat& grey = textured_frame(1);
-  OrbExtractor orb{OrbParams{}};
-  Features parallel, alone;
-  orb.extract(grey, cv::Mat(), parallel.keypoints, parallel.descriptors);
-  tbb::task_arena one_thread(1);
-  one_thread.execute([&] {
-    OrbExtractor own{OrbParams{}};
-    own.detect(grey);
-    own.describe_detected(cv::Mat(), alone.keypoints, alone.descriptors);
-  });
-  ASSERT_EQ(parallel.keypoints.size(), alone.keypoints.size());
-  ASSERT_GT(parallel.keypoints.size(), 500u);
-  for (std::size_t i = 0; i < parallel.keypoints.size(); ++i) {
-    const cv::KeyPoint &p = parallel.keypoints[i], &q = alone.keypoints[i];
-    ASSERT_TRUE(p.pt == q.pt && p.angle == q.angle && p.octave == q.octave && p.response == q.response)
-        << "keypoint " << i;
+  cv::Mat mask = cv::Mat::zeros(grey.size(), CV_8U);
+  cv::circle(mask, {200, 180}, 70, cv::Scalar(1), cv::FILLED);
+  for (const cv::Mat& m : {cv::Mat(), mask}) {
+    SCOPED_TRACE(m.empty() ? "no mask" : "masked");
+    OrbExtractor orb{OrbParams{}};
+    Features parallel, alone;
+    orb.detect(grey);
+    orb.describe_detected(m, parallel.keypoints, parallel.descriptors);
+    tbb::task_arena one_thread(1);
+    one_thread.execute([&] {
+      OrbExtractor own{OrbParams{}};
+      own.detect(grey);
+      own.describe_detected(m, alone.keypoints, alone.descriptors);
+    });
+    ASSERT_EQ(parallel.keypoints.size(), alone.keypoints.size());
+    ASSERT_GT(parallel.keypoints.size(), 500u);
+    for (std::size_t i = 0; i < parallel.keypoints.size(); ++i) {
+      const cv::KeyPoint &p = parallel.keypoints[i], &q = alone.keypoints[i];
+      ASSERT_TRUE(p.pt == q.pt && p.angle == q.angle && p.octave == q.octave && p.response == q.response)
+          << "keypoint " << i;
+    }
+    ASSERT_EQ(parallel.descriptors.size(), alone.descriptors.size());
+    EXPECT_EQ(std::memcmp(parallel.descriptors.data, alone.descriptors.data, parallel.descriptors.total()),
+              0);
   }
-  ASSERT_EQ(parallel.descriptors.size(), alone.descriptors.size());
-  EXPECT_EQ(std::memcmp(parallel.descriptors.data, alone.descriptors.data, parallel.descriptors.total()), 0);
 }
 
 TEST(OrbQuadtree, KeepsIsolatedCornersAndTheStrongestOfClusters) {
@@ -439,4 +447,23 @@ TEST(GaussianSmoother, EveryPixelIsTheFixedPointFilterOfItsContract) {
       }
     EXPECT_EQ(wrong, 0);
   }
+}
+
+// build_level(i) in turn after set_base() is build(): the extractor starts on a level while the
+// next is made.
+TEST(ImagePyramid, LevelByLevelIsTheWholeBuild) {
+  const cv::Mat& grey = textured_frame(0);
+  lrd::features::ImagePyramid whole(8, 1.2f), stepwise(8, 1.2f);
+  whole.build(grey);
+  stepwise.set_base(grey);
+  for (int i = 1; i < stepwise.levels(); ++i) stepwise.build_level(i);
+  for (int i = 0; i < whole.levels(); ++i) {
+    SCOPED_TRACE(i);
+    ASSERT_EQ(whole.level(i).size(), stepwise.level(i).size());
+    EXPECT_EQ(cv::norm(whole.level(i), stepwise.level(i), cv::NORM_INF), 0.0);
+    EXPECT_EQ(whole.to_base(i, 10.0f, 20.0f), stepwise.to_base(i, 10.0f, 20.0f));
+  }
+  EXPECT_EQ(whole.level(1).size(), cv::Size(533, 400));  // 640x480 / 1.2, rounded
+  EXPECT_THROW(stepwise.build_level(0), cv::Exception);
+  EXPECT_THROW(stepwise.build_level(8), cv::Exception);
 }

@@ -36,16 +36,19 @@ void ImagePyramid::set_base(const cv::Mat& grey) {
 }
 
 void ImagePyramid::build_levels() {
+  for (int i = 1; i < levels(); ++i) build_level(i);
+}
+
+void ImagePyramid::build_level(int i) {
+  CV_Assert(i >= 1 && i < levels());
   const cv::Mat& grey = images_[0];
-  for (int i = 1; i < levels(); ++i) {
-    // Sizes round from level 0, as ORB-SLAM2 does; each level shrinks the previous one, which is
-    // cheaper and smoother than shrinking level 0 by a large factor with bilinear sampling.
-    const cv::Size size(std::max(1, static_cast<int>(std::lround(grey.cols * inv_scale_[i]))),
-                        std::max(1, static_cast<int>(std::lround(grey.rows * inv_scale_[i]))));
-    cv::resize(images_[i - 1], images_[i], size, 0.0, 0.0, cv::INTER_LINEAR);
-    ratio_[i] = {static_cast<float>(grey.cols) / static_cast<float>(size.width),
-                 static_cast<float>(grey.rows) / static_cast<float>(size.height)};
-  }
+  // Sizes round from level 0, as ORB-SLAM2 does; each level shrinks the previous one, which is
+  // cheaper and smoother than shrinking level 0 by a large factor with bilinear sampling.
+  const cv::Size size(std::max(1, static_cast<int>(std::lround(grey.cols * inv_scale_[i]))),
+                      std::max(1, static_cast<int>(std::lround(grey.rows * inv_scale_[i]))));
+  cv::resize(images_[i - 1], images_[i], size, 0.0, 0.0, cv::INTER_LINEAR);
+  ratio_[i] = {static_cast<float>(grey.cols) / static_cast<float>(size.width),
+               static_cast<float>(grey.rows) / static_cast<float>(size.height)};
 }
 
 }  // namespace lrd::features

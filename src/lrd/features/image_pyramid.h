@@ -14,9 +14,11 @@ class ImagePyramid {
   // Rebuilds every level from `grey` (CV_8UC1). Level 0 shares grey's pixels; the other levels
   // are kept between calls, so building pyramids of same-sized frames allocates nothing.
   void build(const cv::Mat& grey);
-  // build() in two steps, so that work on level 0 (the input itself) can start while the other
-  // levels are made: set_base() sets level 0, build_levels() makes levels 1.. from it.
+  // build() in steps, so that work on a level can start while the next ones are made:
+  // set_base() sets level 0, build_level(i) makes level i from level i - 1 (1 <= i < levels()),
+  // build_levels() makes levels 1.. in turn.
   void set_base(const cv::Mat& grey);
+  void build_level(int i);
   void build_levels();
 
   [[nodiscard]] int levels() const { return static_cast<int>(scale_.size()); }

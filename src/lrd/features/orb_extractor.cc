@@ -1,6 +1,6 @@
 #include "lrd/features/orb_extractor.h"
 
-#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include <algorithm>
@@ -126,19 +126,6 @@ void describe_level_baseline(const LevelImages& in, const Pattern& pattern, std:
 }
 #endif
 
-// Runs level_work(0..n-1): level 0 (a third of the pixels, the most keypoints) is handed to TBB's
-// helper thread first, then `meanwhile` runs here (building the other levels, say) and the other
-// levels go in parallel; without a helper the caller does it all, with the same results.
-template <class Work, class Meanwhile = void (*)()>
-void for_levels_base_first(
-    int n, const Work& level_work, const Meanwhile& meanwhile = [] {}) {
-  tbb::task_group base_level;
-  base_level.run([&] { level_work(0); });
-  meanwhile();
-  tbb::parallel_for(1, n, level_work);
-  base_level.wait();
-}
-
 }  // namespace
 
 OrbExtractor::OrbExtractor(const OrbParams& params)
@@ -259,17 +246,25 @@ void OrbExtractor::detect(const cv::Mat& grey) {
 }
 
 void OrbExtractor::detect_and_smooth(const cv::Mat& grey, const cv::Mat& mask) {
-  // A level's smoothing (for the descriptors) needs only its image, so it runs here beside the
-  // corner search rather than after the quadtree. Level 0 is the input itself: its share (a third
-  // of the pixels) goes to TBB's helper thread before the other levels are built, which gives the
-  // helper time to wake (bench_orb, walking_xyz tum on 2 idle cores: 0.57-0.58 Y before, 0.54 Y).
-  auto level_work = [&](int level) {
-    LevelWork& w = work_[level];
-    detect(level, mask, w);
-    w.smoother.smooth(pyramid_.level(level), w.smoothed);
+  // A level's corners and its smoothing (for the descriptors) need only its image: both go to TBB
+  // as soon as the level is built, level 0 (the input itself, a third of the pixels) first. The
+  // helper thread takes the oldest tasks while this one builds the pyramid (a chain of resizes,
+  // a quarter of the work), then both finish what is left.
+  tbb::task_group level_tasks;
+  auto start_level = [&](int level) {
+    level_tasks.run([this, &mask, level] { detect(level, mask, work_[level]); });
+    level_tasks.run(
+        [this, level] { work_[level].smoother.smooth(pyramid_.level(level), work_[level].smoothed); });
   };
   pyramid_.set_base(grey);
-  for_levels_base_first(levels(), level_work, [&] { pyramid_.build_levels(); });
+  start_level(0);
+  for (int level = 1; level < levels(); ++level) {
+    // Isolated: cv::resize's own parallel loop must not pick up a level's task here, which
+    // would hold up the chain the other levels wait for.
+    tbb::this_task_arena::isolate([&] { pyramid_.build_level(level); });
+    start_level(level);
+  }
+  level_tasks.wait();
 }
 
 void OrbExtractor::describe_detected(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints,
@@ -279,57 +274,65 @@ void OrbExtractor::describe_detected(const cv::Mat& mask, std::vector<cv::KeyPoi
   finish(mask, keypoints, descriptors);
 }
 
+void OrbExtractor::describe_chosen(int level) {
+  LevelWork& w = work_[level];
+  w.keypoints.resize(w.chosen.size());
+  w.descriptors.create(static_cast<int>(w.chosen.size()), kDescriptorBytes, CV_8U);
+  if (w.chosen.empty()) return;
+  // Smoothed (detect_and_smooth) so that the binary tests are robust to noise (Rublee et al.
+  // 2011, sec. 4).
+  const LevelImages in{pyramid_.level(level), w.smoothed, pyramid_, level};
+  const Pattern pattern{&disc_, pattern_x_.data(), pattern_y_.data()};
+#ifdef LRD_AVX2_COPIES
+  if (util::cpu_has_avx2()) {
+    describe_level_avx2(in, pattern, w.chosen, 0, w.keypoints, w.descriptors);
+    return;
+  }
+#endif
+  describe_level_baseline(in, pattern, w.chosen, 0, w.keypoints, w.descriptors);
+}
+
 void OrbExtractor::finish(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
   const int n = levels();
-  if (!mask.empty()) {
-    for (int level = 0; level < n; ++level) {
-      auto& corners = work_[level].corners;
-      std::erase_if(corners, [&](const cv::KeyPoint& kp) {
+  // Coarse to fine: what a level cannot fill passes to the next finer one, which has more corners,
+  // so low-texture images still get close to n_features. Each level is described on TBB's
+  // helper thread as soon as its keypoints are chosen, while this thread chooses the next finer
+  // level's (the helper wakes behind that work, and the two threads end together).
+  tbb::task_group describing;
+  int carry = 0;
+  for (int level = n - 1; level >= 0; --level) {
+    const cv::Mat& image = pyramid_.level(level);
+    LevelWork& w = work_[level];
+    if (!mask.empty()) {
+      std::erase_if(w.corners, [&](const cv::KeyPoint& kp) {
         const cv::Point2f p = pyramid_.to_base(level, kp.pt.x, kp.pt.y);
         const int mx = std::clamp(cvRound(p.x), 0, mask.cols - 1);
         const int my = std::clamp(cvRound(p.y), 0, mask.rows - 1);
         return mask.at<std::uint8_t>(my, mx) != 0;
       });
     }
-  }
-  // Coarse to fine: what a level cannot fill passes to the next finer one, which has more corners,
-  // so low-texture images still get close to n_features.
-  int carry = 0;
-  for (int level = n - 1; level >= 0; --level) {
-    const cv::Mat& image = pyramid_.level(level);
-    LevelWork& w = work_[level];
     w.chosen.clear();
     const int wanted = per_level_[level] + carry;
     const cv::Rect2f area(kEdge, kEdge, static_cast<float>(image.cols - 2 * kEdge),
                           static_cast<float>(image.rows - 2 * kEdge));
     for (int i : distributor_.select(w.corners, area, wanted)) w.chosen.push_back(w.corners[i]);
     carry = wanted - static_cast<int>(w.chosen.size());
+    describing.run([this, level] { describe_chosen(level); });
   }
-  int total = 0;
-  for (LevelWork& w : work_) {
-    w.first_row = total;
-    total += static_cast<int>(w.chosen.size());
-  }
+  describing.wait();
 
-  keypoints.resize(total);
-  descriptors.create(total, kDescriptorBytes, CV_8U);
-  // Level 0 holds the most keypoints: handed to the helper first, as in detect_and_smooth().
-  auto describe = [&](int level) {
-    LevelWork& w = work_[level];
-    if (w.chosen.empty()) return;
-    // Smoothed (detect_and_smooth) so that the binary tests are robust to noise (Rublee et al.
-    // 2011, sec. 4).
-    const LevelImages in{pyramid_.level(level), w.smoothed, pyramid_, level};
-    const Pattern pattern{&disc_, pattern_x_.data(), pattern_y_.data()};
-#ifdef LRD_AVX2_COPIES
-    if (util::cpu_has_avx2()) {
-      describe_level_avx2(in, pattern, w.chosen, w.first_row, keypoints, descriptors);
-      return;
-    }
-#endif
-    describe_level_baseline(in, pattern, w.chosen, w.first_row, keypoints, descriptors);
-  };
-  for_levels_base_first(n, describe);
+  // In level order, as the contract says.
+  std::size_t total = 0;
+  for (const LevelWork& w : work_) total += w.keypoints.size();
+  keypoints.clear();
+  keypoints.reserve(total);
+  descriptors.create(static_cast<int>(total), kDescriptorBytes, CV_8U);
+  int row = 0;
+  for (const LevelWork& w : work_) {
+    keypoints.insert(keypoints.end(), w.keypoints.begin(), w.keypoints.end());
+    if (w.descriptors.rows > 0) w.descriptors.copyTo(descriptors.rowRange(row, row + w.descriptors.rows));
+    row += w.descriptors.rows;
+  }
 }
 
 }  // namespace lrd::features

@@ -75,7 +75,8 @@ class OrbExtractor {
     std::vector<char> cell_strong;
     GaussianSmoother smoother;
     cv::Mat smoothed;
-    int first_row = 0;  // of its keypoints in the output
+    std::vector<cv::KeyPoint> keypoints;  // the chosen ones described: level-0 coordinates
+    cv::Mat descriptors;                  // one row per keypoint
   };
 
   // Unmasked FAST corners of one level (level coordinates, response = score): those scoring
@@ -84,6 +85,8 @@ class OrbExtractor {
   // Builds the pyramid, finds every level's corners (detect) and smooths every level.
   void detect_and_smooth(const cv::Mat& grey, const cv::Mat& mask);
   void check_input(const cv::Mat& grey, const cv::Mat& mask) const;
+  // Orientation and description of level `level`'s chosen corners into its keypoints, descriptors.
+  void describe_chosen(int level);
   // Quadtree distribution, orientation and description of the detected corners not under `mask`.
   void finish(const cv::Mat& mask, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
 
