@@ -16,6 +16,7 @@ PACKAGES=(
   python3 python3-numpy python3-opencv python3-pytest python3-yaml
   python3-torch python3-onnx python3-pil  # FNet: training, ONNX export fix-up, VOC palette labels
   python3-flatbuffers  # tools/tflite2onnx reads TFLite models (scripts/fetch-models.sh)
+  python3-dev pybind11-dev  # the Python module (python/): pybind11 bindings for /usr/bin/python3
   # ROS 1 (issue 19): rosbag input (`run --bag`, `synth --bag`) and the lrdslam_ros node with its
   # tests (roscore, rosbag play, rostopic). rosbag's headers pull in bookworm's ROS 2 pluginlib,
   # whose rcpputils/rcutils headers are named here because the build includes them.

@@ -99,6 +99,9 @@ OutputConfig read_output(NodeReader& r) {
   return out;
 }
 
+// The sections of a parsed config; `path` names it in errors.
+Config config_from_yaml(const YAML::Node& root, const std::filesystem::path& path);
+
 }  // namespace
 
 Config load_config(const std::filesystem::path& path) {
@@ -123,7 +126,23 @@ Config load_config(const std::filesystem::path& path) {
   } catch (const YAML::Exception& e) {
     throw file_error(path, std::string("cannot read config: ") + e.msg);
   }
+  return config_from_yaml(root, path);
+}
 
+Config load_config_text(const std::string& text, const std::filesystem::path& origin) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw line_error(origin, static_cast<std::size_t>(e.mark.line) + 1, "YAML syntax error: " + e.msg);
+  }
+  if (!root.IsMap() && !root.IsNull()) throw file_error(origin, "a config is a mapping of sections");
+  return config_from_yaml(root, origin);
+}
+
+namespace {
+
+Config config_from_yaml(const YAML::Node& root, const std::filesystem::path& path) {
   Config cfg;
   cfg.file = path;
   NodeReader top(root, path, "");
@@ -148,5 +167,7 @@ Config load_config(const std::filesystem::path& path) {
   top.finish();
   return cfg;
 }
+
+}  // namespace
 
 }  // namespace lrd::config

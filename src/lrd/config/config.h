@@ -9,6 +9,7 @@
 //   params.min_inliers = r.get("min_inliers", 15);
 //   r.finish();  // "FILE:LINE: unknown key 'tracking.min_inlier' (did you mean 'min_inliers'?)"
 #include <filesystem>
+#include <string>
 
 #include "lrd/camera/pinhole_camera.h"
 #include "lrd/config/node_reader.h"
@@ -45,5 +46,8 @@ struct Config {
 // fx/fy/cx/cy; other fields given next to a preset or settings file override it. Without a
 // camera section the camera is the tum3 preset.
 [[nodiscard]] Config load_config(const std::filesystem::path& path);
+// The same from YAML text (the Python module's dict configs); `origin` names it in errors and is
+// where relative paths in it (camera.settings) are resolved from.
+[[nodiscard]] Config load_config_text(const std::string& text, const std::filesystem::path& origin);
 
 }  // namespace lrd::config

@@ -45,7 +45,10 @@ char tum_sensor_of(const fs::path& named) {
 }  // namespace
 
 config::Config resolve_config(const RunOptions& o, std::string* source) {
-  config::Config cfg = o.config ? config::load_config(*o.config) : config::Config{};
+  return resolve_config(o, o.config ? config::load_config(*o.config) : config::Config{}, source);
+}
+
+config::Config resolve_config(const RunOptions& o, config::Config cfg, std::string* source) {
   std::string from;
   const char sensor = tum_sensor_of(o.source ? o.source->path() : o.sequence);
   const auto carried = o.source ? o.source->camera() : std::nullopt;

@@ -80,6 +80,9 @@ struct RunOptions {
 // settings.yaml (synthetic benchmark), else the TUM preset named by a "freiburgN" folder (or bag)
 // name, else the default (tum3). `source` says which was used.
 [[nodiscard]] config::Config resolve_config(const RunOptions& options, std::string* source = nullptr);
+// The same over a config already read (options.config is then not read).
+[[nodiscard]] config::Config resolve_config(const RunOptions& options, config::Config config,
+                                            std::string* source = nullptr);
 
 // A carried camera (a bag's or a topic's camera_info) over `base`: the sensor's intrinsics,
 // distortion and size; base's depth settings stay (a camera_info has none).
