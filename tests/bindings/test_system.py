@@ -111,3 +111,22 @@ def test_synth_render_equals_the_written_frames(walking):
     written = lrdslam.io.read_sequence(walking)
     np.testing.assert_allclose(seq.timestamps, written.timestamps, rtol=0, atol=1e-6)  # rgb.txt: 6 decimals
     np.testing.assert_allclose(seq.ground_truth[:, 1:4], np.loadtxt(walking / "groundtruth.txt")[:, 1:4], atol=1e-9)
+
+
+def test_read_sequence_reads_a_bag_as_the_folder(walking, tmp_path):
+    import subprocess
+    from conftest import BIN
+    bag = tmp_path / "walking.bag"
+    r = subprocess.run([BIN, "synth", "--preset", "walking_xyz", "--frames", "12", "--out", tmp_path / "seq",
+                        "--bag", bag], capture_output=True, text=True)
+    if r.returncode != 0 and "without ROS" in r.stderr:
+        pytest.skip("this build has no ROS 1: " + r.stderr.strip())
+    assert r.returncode == 0, r.stderr
+    from_bag = lrdslam.io.read_sequence(bag, gt_from_tf="/world:/kinect")
+    from_folder = lrdslam.io.read_sequence(tmp_path / "seq")
+    assert len(from_bag) == len(from_folder) == 12
+    assert from_bag.camera["fx"] == pytest.approx(535.4) and from_folder.camera is None
+    for i in (0, 11):
+        np.testing.assert_array_equal(from_bag[i].rgb, from_folder[i].rgb)
+        np.testing.assert_allclose(from_bag[i].depth, from_folder[i].depth, atol=1e-6)
+    np.testing.assert_allclose(from_bag.ground_truth[:, 1:], from_folder.ground_truth[:, 1:], atol=1e-6)
