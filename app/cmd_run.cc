@@ -59,6 +59,7 @@ struct RunCli {
   std::string vocabulary;
   bool realtime = false;
   bool preload = false;
+  bool yardstick = false;
   bool deterministic = false;
   bool quiet = false;
   bool report = false;
@@ -246,6 +247,9 @@ void register_run_command(CLI::App& app) {
       "--preload", cli->preload,
       "Decode every frame before tracking starts (~2 MB a frame): per-frame times without a decoding "
       "thread beside them, as ORB-SLAM2 measured (the benchmarks do this)");
+  cmd->add_flag("--yardstick", cli->yardstick,
+                "Time OpenCV's ORB (1000/1.2/8) on every frame beside the extraction: the yardstick Y in "
+                "summary.json's per_frame.yardstick, measured in the same run (sweeps and benchmarks)");
   cmd->add_flag("--no-loop-closing", cli->no_loop_closing,
                 "Switch loop closing off (ablations); relocalization stays");
   cmd->add_option("--vocabulary", cli->vocabulary,
@@ -292,6 +296,7 @@ void register_run_command(CLI::App& app) {
     o.localization_only = cli->localization_only;
     o.realtime = cli->realtime;
     o.preload = cli->preload;
+    o.yardstick = cli->yardstick;
     o.progress = !cli->quiet;
     o.report_frames = cli->report;
     if (cli->report) report::check_report_assets();  // a missing asset stops the run before it starts

@@ -12,5 +12,6 @@ void register_segment_command(CLI::App& app);
 void register_eval_map_command(CLI::App& app);
 void register_vocab_command(CLI::App& app);
 void register_report_command(CLI::App& app);
+void register_sweep_command(CLI::App& app);
 
 }  // namespace lrd::app

@@ -7,11 +7,12 @@
 
 #include "app/commands.h"
 #include "lrd/util/error.h"
+#include "lrd_git_commit.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"lrd-slam: RGB-D SLAM for dynamic scenes (LRD-SLAM)", "lrdslam"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("lrdslam ") + LRD_VERSION);
+  app.set_version_flag("--version", std::string("lrdslam ") + LRD_VERSION + " (" + LRD_GIT_COMMIT + ")");
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")->capture_default_str();
   app.parse_complete_callback([&] { spdlog::set_level(spdlog::level::from_str(log_level)); });
@@ -23,6 +24,7 @@ int main(int argc, char** argv) {
   lrd::app::register_eval_map_command(app);
   lrd::app::register_vocab_command(app);
   lrd::app::register_report_command(app);
+  lrd::app::register_sweep_command(app);
 
   try {
     app.parse(argc, argv);

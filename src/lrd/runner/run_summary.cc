@@ -104,6 +104,11 @@ nlohmann::json stage_json(const StageSummary& s) {
   return {{"median_ms", s.median_ms}, {"mean_ms", s.mean_ms}};
 }
 
+nlohmann::json error_stats_json(const eval::ErrorStats& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std_dev},
+          {"min", s.min},   {"max", s.max},   {"pairs", s.count}};
+}
+
 }  // namespace
 
 void write_summary_json(const fs::path& file, const RunReport& r) {
@@ -145,6 +150,8 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
       {"io_wait_seconds", r.io_wait_seconds},
       {"interrupted", r.interrupted},
   };
+  // Y measured in the run's tracking thread beside each frame (`run --yardstick`).
+  if (r.yardstick.median_ms > 0.0) j["per_frame"]["yardstick"] = stage_json(r.yardstick);
   if (r.loaded_map || r.saved_map)
     j["map_file"] = {{"loaded", r.loaded_map ? r.loaded_map->string() : ""},
                      {"loaded_keyframes", r.map.loaded_keyframes},
@@ -175,12 +182,13 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
                           {"dry_run_solution", e.dry_run_solution},
                           {"suggested", e.suggested}});
   if (r.has_ground_truth) {
-    j["ate"] = {{"rmse", r.ate_rmse},
-                {"mean", r.ate_mean},
-                {"median", r.ate_median},
-                {"max", r.ate_max},
-                {"pairs", r.ate_pairs}};
-    j["rpe"] = {{"trans_rmse", r.rpe_trans_rmse}, {"rot_rmse", r.rpe_rot_rmse}};
+    j["ate"] = {{"rmse", r.ate_rmse},   {"mean", r.ate_mean}, {"median", r.ate_median},
+                {"std", r.ate.std_dev}, {"max", r.ate_max},   {"pairs", r.ate_pairs}};
+    // The paper's Tables 6-7 need every statistic of both RPE parts (m/s, deg/s at delta 1 s).
+    j["rpe"] = {{"trans_rmse", r.rpe_trans_rmse},
+                {"rot_rmse", r.rpe_rot_rmse},
+                {"trans", error_stats_json(r.rpe_trans)},
+                {"rot", error_stats_json(r.rpe_rot)}};
   }
   if (r.flags) {
     j["dynamic_flags"] = {{"frames", r.flags->frames},
