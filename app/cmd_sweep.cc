@@ -1,11 +1,16 @@
 // `lrdslam sweep`: the paper's experiment over folders, bags and synthetic presets x modes x
 // config variants x repeats, each cell one `lrdslam run`, on this machine or a Slurm cluster;
 // `sweep status DIR`, `sweep collect DIR`, `sweep cancel DIR` (docs/sweep.md).
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -67,12 +72,35 @@ void print_collect(const fs::path& dir, const std::vector<sweep::SweepCell>& cel
   std::printf("wrote %s and %s\n", (dir / "results.json").c_str(), (dir / "tables.md").c_str());
 }
 
+// The sweep's own time per cell against the runs' (the bar: under 1 %): planning and collecting
+// spread over the cells run, plus each cell's bookkeeping around its run.
+void print_overhead(const fs::path& dir, const std::vector<sweep::SweepCell>& cells,
+                    const std::vector<int>& ran, double planning_and_collection) {
+  std::vector<double> runs;
+  double bookkeeping = 0.0;
+  for (int i : ran) {
+    const auto record = sweep::cell_record(dir, cells[static_cast<std::size_t>(i)]);
+    if (!record || !record->contains("overhead_seconds")) continue;
+    runs.push_back((*record)["wall_seconds"].get<double>());
+    bookkeeping += (*record)["overhead_seconds"].get<double>();
+  }
+  if (runs.empty()) return;
+  std::sort(runs.begin(), runs.end());
+  const double per_cell = (planning_and_collection + bookkeeping) / static_cast<double>(runs.size());
+  const double median = runs[runs.size() / 2];
+  std::printf(
+      "sweep overhead: %.1f ms per cell (planning, bookkeeping, collection) = %.2f %% of the median run "
+      "(%.2f s)\n",
+      1e3 * per_cell, 100.0 * per_cell / median, median);
+}
+
 void run_sweep(const SweepCli& c) {
   if (c.out.empty()) throw Error("sweep: give --out DIR (or a subcommand: status, collect, cancel)");
   if (c.executor != "local" && c.executor != "slurm")
     throw Error("sweep: --executor must be local or slurm, got '" + c.executor + "'");
   if (c.executor == "slurm") sweep::require_program("sbatch", "--executor slurm");
   if (c.executor == "slurm" && c.wait) sweep::require_program("squeue", "--wait");
+  const auto t0 = std::chrono::steady_clock::now();
   const fs::path dir = c.out;
   const sweep::SweepPlan plan = sweep::plan_sweep(spec_of(c));  // every argument checked here
   sweep::write_manifest(dir, plan);
@@ -81,10 +109,14 @@ void run_sweep(const SweepCli& c) {
   std::fflush(stdout);
   const fs::path binary = util::own_executable();
   if (c.executor == "local") {
+    const double planning = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!pending.empty())
       sweep::run_local(dir, plan.cells, pending, binary, c.jobs > 0 ? c.jobs : sweep::default_jobs(),
                        sweep::this_machine(version_string()), true);
+    const auto t1 = std::chrono::steady_clock::now();
     print_collect(dir, plan.cells);
+    const double collection = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    print_overhead(dir, plan.cells, pending, planning + collection);
     return;
   }
   if (pending.empty()) {
@@ -129,14 +161,51 @@ void print_status(const fs::path& dir) {
   for (const std::string& m : missing) std::printf("missing: %s\n", m.c_str());
 }
 
+// `lrdslam run` in this process with stdout and stderr in `log`: a Slurm task starts one program
+// (loading OpenCV's ~180 shared libraries takes 0.15-0.2 s here), not two.
+int run_in_process(const std::vector<std::string>& argv, const fs::path& log) {
+  CLI::App app{"lrdslam", "lrdslam"};
+  register_run_command(app);
+  std::vector<const char*> args;
+  for (const std::string& a : argv) args.push_back(a.c_str());
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const int saved_out = dup(STDOUT_FILENO), saved_err = dup(STDERR_FILENO);
+  const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  if (fd < 0 || saved_out < 0 || saved_err < 0) throw file_error(log, "cannot open the run's log");
+  dup2(fd, STDOUT_FILENO);
+  dup2(fd, STDERR_FILENO);
+  close(fd);
+  int code = 0;
+  try {
+    app.parse(static_cast<int>(args.size()), args.data());
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "error: %s (see --help)\n", e.what());
+    code = e.get_exit_code() == 0 ? 1 : e.get_exit_code();
+  } catch (const cv::Exception& e) {
+    std::fprintf(stderr, "error: OpenCV: %s\n", e.err.c_str());
+    code = 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    code = 1;
+  }
+  std::fflush(stdout);
+  std::fflush(stderr);
+  dup2(saved_out, STDOUT_FILENO);
+  dup2(saved_err, STDERR_FILENO);
+  close(saved_out);
+  close(saved_err);
+  return code;
+}
+
 void run_one_cell(const fs::path& dir, int index) {
   const std::vector<sweep::SweepCell> cells = sweep::read_manifest(dir);
   if (index < 0 || index >= static_cast<int>(cells.size()))
     throw Error(
         fmt::format("sweep run-cell: {} has cells 0-{}, not {}", dir.string(), cells.size() - 1, index));
   const sweep::SweepCell& cell = cells[static_cast<std::size_t>(index)];
-  const sweep::CellState s =
-      sweep::run_cell(dir, cell, util::own_executable(), sweep::this_machine(version_string()));
+  const sweep::CellState s = sweep::run_cell(dir, cell, util::own_executable(),
+                                             sweep::this_machine(version_string()), run_in_process);
   if (s == sweep::CellState::Failed)
     throw Error("sweep: cell " + cell.id + " failed: " + sweep::cell_record(dir, cell)->value("error", ""));
 }

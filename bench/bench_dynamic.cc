@@ -31,6 +31,7 @@
 
 #include "bench/sequence_cache.h"
 #include "lrd/eval/improvement.h"
+#include "lrd/eval/paper_tables.h"
 #include "lrd/report/benchmark_data.h"
 #include "lrd/report/html_page.h"
 #include "lrd/runner/sequence_runner.h"
@@ -47,32 +48,6 @@ struct Cell {
 
 nlohmann::json stats_json(const lrd::eval::ErrorStats& s) {
   return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std_dev}};
-}
-
-// One of Tables 4-7: rows = presets, per mode four columns (RMSE, mean, median, std).
-std::string error_table(const std::string& title, const std::vector<std::string>& presets,
-                        const std::vector<std::string>& modes, const std::map<std::string, Cell>& cells,
-                        const lrd::eval::ErrorStats lrd::runner::RunReport::*field) {
-  std::ostringstream md;
-  md << "### " << title << "\n\n| sequence |";
-  for (const auto& m : modes) md << " " << m << " RMSE | mean | median | std |";
-  md << "\n|---|";
-  for (std::size_t i = 0; i < modes.size(); ++i) md << "---|---|---|---|";
-  md << "\n";
-  for (const auto& p : presets) {
-    md << "| " << p << " |";
-    for (const auto& m : modes) {
-      const auto it = cells.find(p + "/" + m);
-      if (it == cells.end() || !it->second.report.has_ground_truth) {
-        md << " – | – | – | – |";
-        continue;
-      }
-      const auto& s = it->second.report.*field;
-      md << fmt::format(" {:.4f} | {:.4f} | {:.4f} | {:.4f} |", s.rmse, s.mean, s.median, s.std_dev);
-    }
-    md << "\n";
-  }
-  return md.str();
 }
 
 // The config of a `full-sync` run: --config's (if any) with segmentation.schedule: sync.
@@ -164,9 +139,21 @@ int main(int argc, char** argv) {
      << ". Time per frame excludes PNG decoding; Y = median `cv::ORB` detectAndCompute on the same "
         "frames.\n\n";
   using RR = lrd::runner::RunReport;
-  md << error_table("Table 4-5: ATE (m)", presets, modes, cells, &RR::ate) << "\n";
-  md << error_table("Table 6: RPE translation (m/s)", presets, modes, cells, &RR::rpe_trans) << "\n";
-  md << error_table("Table 7: RPE rotation (deg/s)", presets, modes, cells, &RR::rpe_rot) << "\n";
+  // Tables 4-7, eta and Table 10 as `lrdslam sweep` writes them (eval/paper_tables.h).
+  lrd::eval::PaperTables tables(presets, modes);
+  for (const auto& [key, c] : cells) {
+    lrd::eval::PaperCell cell;
+    if (c.report.has_ground_truth) {
+      cell.ate = c.report.ate;
+      cell.rpe_trans = c.report.rpe_trans;
+      cell.rpe_rot = c.report.rpe_rot;
+    }
+    cell.time_mean_ms = c.report.total.mean_ms;
+    cell.time_median_ms = c.report.total.median_ms;
+    cell.y_ms = c.y_ms;
+    tables.set(c.preset, c.mode, cell);
+  }
+  md << tables.error_tables() << tables.improvement_table() << tables.time_table();
 
   // Column headers of the tables that compare each mode with `static`.
   auto non_static_header = [&] {
@@ -177,62 +164,12 @@ int main(int argc, char** argv) {
       if (m != "static") md << "---|";
     md << "\n";
   };
-  md << "### Improvement rate eta over `static` (ATE RMSE / RPE trans RMSE / RPE rot RMSE, %)\n\n| sequence "
-        "|";
-  non_static_header();
   nlohmann::json js;
   js["segmenter"] = segmenter;
   js["seed"] = 1;
   js["frames"] = frames;
   js["presets"] = presets;
   js["modes"] = modes;
-  for (const auto& p : presets) {
-    md << "| " << p << " |";
-    const auto base = cells.find(p + "/static");
-    for (const auto& m : modes) {
-      if (m == "static") continue;
-      const auto it = cells.find(p + "/" + m);
-      if (base == cells.end() || it == cells.end()) {
-        md << " – |";
-        continue;
-      }
-      const RR& b = base->second.report;
-      const RR& r = it->second.report;
-      md << fmt::format(" {:.1f} / {:.1f} / {:.1f} |", lrd::eval::improvement_percent(b.ate.rmse, r.ate.rmse),
-                        lrd::eval::improvement_percent(b.rpe_trans.rmse, r.rpe_trans.rmse),
-                        lrd::eval::improvement_percent(b.rpe_rot.rmse, r.rpe_rot.rmse));
-    }
-    md << "\n";
-  }
-
-  // Each run's time is divided by its own interleaved Y (bench/yardstick.h); the Y column lists
-  // them in the modes' order.
-  md << "\n### Table 10: time per frame (ms; multiples of each run's interleaved Y)\n\n| sequence | Y (ms) |";
-  for (const auto& m : modes) md << " " << m << " mean | median |";
-  md << "\n|---|---|";
-  for (std::size_t i = 0; i < modes.size(); ++i) md << "---|---|";
-  md << "\n";
-  for (const auto& p : presets) {
-    std::string ys;
-    for (const auto& m : modes) {
-      const auto it = cells.find(p + "/" + m);
-      ys += (ys.empty() ? "" : " / ") + (it != cells.end() ? fmt::format("{:.2f}", it->second.y_ms) : "–");
-    }
-    md << "| " << p << " | " << ys << " |";
-    for (const auto& m : modes) {
-      const auto it = cells.find(p + "/" + m);
-      if (it == cells.end()) {
-        md << " – | – |";
-        continue;
-      }
-      const RR& r = it->second.report;
-      const double y = it->second.y_ms;
-      md << fmt::format(" {:.1f} ({:.2f} Y) | {:.1f} ({:.2f} Y) |", r.total.mean_ms, r.total.mean_ms / y,
-                        r.total.median_ms, r.total.median_ms / y);
-    }
-    md << "\n";
-  }
-
   md << "\n### Dynamic keypoint flags vs ground-truth masks (precision / recall; moved objects: recall)\n\n"
         "| sequence |";
   non_static_header();

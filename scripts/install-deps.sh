@@ -17,6 +17,7 @@ PACKAGES=(
   python3-torch python3-onnx python3-pil  # FNet: training, ONNX export fix-up, VOC palette labels
   python3-flatbuffers  # tools/tflite2onnx reads TFLite models (scripts/fetch-models.sh)
   python3-dev pybind11-dev  # the Python module (python/): pybind11 bindings for /usr/bin/python3
+  slurmctld slurmd slurm-client  # `lrdslam sweep --executor slurm` and its test (a real Slurm on 127.0.0.1)
   # ROS 1 (issue 19): rosbag input (`run --bag`, `synth --bag`) and the lrdslam_ros node with its
   # tests (roscore, rosbag play, rostopic). rosbag's headers pull in bookworm's ROS 2 pluginlib,
   # whose rcpputils/rcutils headers are named here because the build includes them.

@@ -103,6 +103,44 @@
     s.append(table(rows, ["sequence"].concat(others)));
   }
 
+  // A sweep's cells: every repeat's ATE RMSE as a dot, the median as a bar (results.repeats).
+  function distributionSection() {
+    if (!results.repeats) return;
+    const s = section("repeats", "ATE over repeats", "Each dot one run's ATE RMSE (cm), the bar the median the tables show; " +
+      "runs done / failed per cell.");
+    const cells = [];
+    for (const p of presets) for (const m of modes) if (run(p, m)) cells.push(run(p, m));
+    const all = [].concat(...cells.map((r) => r.ate_rmse_runs.map((v) => 100 * v)));
+    if (!all.length) return;
+    const NS = "http://www.w3.org/2000/svg", W = 940, rowH = 18, left = 330, right = 20;
+    const H = 30 + rowH * cells.length, hi = Math.max(...all) * 1.05 || 1;
+    const x = (v) => left + (W - left - right) * v / hi;
+    const svg = document.createElementNS(NS, "svg");
+    svg.setAttribute("width", W);
+    svg.setAttribute("height", H);
+    svg.setAttribute("id", "ate-repeats");
+    const add = (name, attrs, text) => {
+      const e = document.createElementNS(NS, name);
+      for (const k in attrs) e.setAttribute(k, attrs[k]);
+      if (text !== undefined) e.textContent = text;
+      svg.append(e);
+      return e;
+    };
+    cells.forEach((r, i) => {
+      const y = 20 + rowH * i;
+      add("text", {x: left - 8, y: y + 4, "text-anchor": "end", "font-size": 12},
+          r.preset + " · " + r.mode + " (" + r.repeats + (r.failed ? " / " + r.failed + " failed" : "") + ")");
+      add("line", {x1: left, x2: W - right, y1: y, y2: y, stroke: "#eee"});
+      for (const v of r.ate_rmse_runs) add("circle", {cx: x(100 * v), cy: y, r: 3.5, fill: colourOf(r.mode), "fill-opacity": 0.7, class: "repeat"});
+      if (r.ate_m) add("line", {x1: x(100 * r.ate_m.rmse), x2: x(100 * r.ate_m.rmse), y1: y - 7, y2: y + 7, stroke: "#000", "stroke-width": 2});
+    });
+    for (let k = 0; k <= 4; ++k) {
+      const v = hi * k / 4;
+      add("text", {x: x(v), y: H - 2, "text-anchor": "middle", "font-size": 11}, num(v, 2) + " cm");
+    }
+    s.append(el("div", {class: "wide"}, svg));
+  }
+
   // Per preset: the ground truth and every mode's trajectory, aligned as the ATE aligns it.
   function trajectoryChart(parent, preset) {
     const T = data.trajectories[preset], id = "trajectory-" + preset;
@@ -145,6 +183,7 @@
 
   header();
   accuracySection();
+  distributionSection();
   etaSection();
   timeSection();
   flagsSection();

@@ -8,6 +8,7 @@
 
 #include "lrd/io/trajectory.h"
 #include "lrd/report/run_data.h"
+#include "lrd/report/sweep_data.h"
 #include "lrd/report/trajectory_data.h"
 #include "lrd/util/error.h"
 
@@ -39,6 +40,8 @@ json ordered_names(const json& results, const char* list_key, const char* run_ke
 
 // The ground-truth file of the sequence a run read (its summary.json names it), when there is one.
 std::optional<fs::path> run_ground_truth_file(const fs::path& run_dir) {
+  // A run of a source without a folder (a bag, a rendered preset) left its ground truth beside it.
+  if (fs::exists(run_dir / "groundtruth.txt")) return run_dir / "groundtruth.txt";
   if (!fs::exists(run_dir / "summary.json")) return std::nullopt;
   const json summary = read_json_file(run_dir / "summary.json");
   if (!summary.is_object() || !summary.contains("sequence") || !summary["sequence"].is_string())
@@ -87,6 +90,8 @@ bool is_benchmark_folder(const fs::path& dir) {
 json collect_benchmark_data(const fs::path& bench_dir) {
   const fs::path file = bench_dir / "results.json";
   json results = read_json_file(file);
+  // A sweep's results (lrdslam sweep collect): the same page, each cell the median of its repeats.
+  if (is_sweep_results(results)) results = sweep_as_benchmark(results, file);
   if (!results.is_object() || !results.contains("runs") || !results["runs"].is_array())
     throw file_error(file, "not a benchmark's results (no \"runs\" list)");
   for (const json& run : results["runs"]) {

@@ -4,6 +4,7 @@
 // killed run leaves nothing that counts. A failed run leaves DIR/cells/ID.failed.json with its
 // one-line error instead.
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -30,9 +31,18 @@ struct Provenance {
 };
 [[nodiscard]] Provenance this_machine(const std::string& version);
 
+// Runs `lrdslam run` (argv[0] the binary, then "run" and its arguments) with its output in `log`,
+// and returns its exit code: in a child process (the default), or in the calling process (a Slurm
+// task, which then starts one program instead of two).
+using RunLauncher =
+    std::function<int(const std::vector<std::string>& argv, const std::filesystem::path& log)>;
+[[nodiscard]] int launch_child(const std::vector<std::string>& argv, const std::filesystem::path& log);
+
 // Runs the cell with `binary` (an lrdslam), unless it is complete. Returns the state it ends in.
+// The record holds the run's wall time and the sweep's own time around it (`overhead_seconds`).
 CellState run_cell(const std::filesystem::path& dir, const SweepCell& cell,
-                   const std::filesystem::path& binary, const Provenance& where);
+                   const std::filesystem::path& binary, const Provenance& where,
+                   const RunLauncher& launch = launch_child);
 
 // The indices of the cells that are not complete (missing or failed), in order.
 [[nodiscard]] std::vector<int> pending_cells(const std::filesystem::path& dir,

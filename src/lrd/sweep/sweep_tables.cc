@@ -9,6 +9,7 @@
 #include <set>
 
 #include "lrd/eval/improvement.h"
+#include "lrd/eval/paper_tables.h"
 #include "lrd/eval/statistics.h"
 #include "lrd/sweep/cell_runner.h"
 #include "lrd/util/binary_io.h"
@@ -59,6 +60,7 @@ struct Group {
   std::string sequence, mode, variant, version, config_hash;
   std::vector<json> summaries;
   std::vector<std::string> errors;
+  std::string first_cell;  // the first complete repeat's id (the report draws its trajectory)
 };
 
 json spread_json(std::vector<double> runs) {
@@ -72,7 +74,8 @@ json group_json(const Group& g) {
   json e = {{"sequence", g.sequence},       {"mode", g.mode},
             {"variant", g.variant},         {"version", g.version},
             {"config_hash", g.config_hash}, {"repeats", g.summaries.size()},
-            {"failed", g.errors.size()},    {"errors", g.errors}};
+            {"failed", g.errors.size()},    {"errors", g.errors},
+            {"first_cell", g.first_cell}};
   for (const Metric& m : kMetrics) {
     std::vector<double> runs;
     for (const json& s : g.summaries)
@@ -113,11 +116,6 @@ void add_improvement(json& entries) {
   }
 }
 
-std::string cell_text(const json& e, const char* key, int digits) {
-  const auto v = median_of(e, key);
-  return v ? fmt::format("{:.{}f}", *v, digits) : std::string("—");
-}
-
 // The row label: the sequence, and the variant and provenance where they tell rows apart.
 std::string row_label(const json& e, bool variants, bool provenances) {
   std::string label = e["sequence"].get<std::string>();
@@ -149,29 +147,33 @@ Layout layout(const json& entries, const std::vector<std::string>& modes) {
   return l;
 }
 
-// One of Tables 4-7: per mode the median over repeats of RMSE, mean, median and std of the
-// results.json keys PREFIX_STAT UNIT (ate_rmse_m, rpe_trans_mean_m_s, ...).
-std::string error_table(const Layout& l, const std::string& title, const std::string& prefix,
-                        const char* unit, int digits) {
-  std::string md = fmt::format("### {}\n\n| sequence |", title);
-  for (const std::string& m : l.modes) md += fmt::format(" {0} RMSE | {0} mean | {0} median | {0} std |", m);
-  md += "\n|---|";
-  for (std::size_t i = 0; i < l.modes.size(); ++i) md += "---|---|---|---|";
-  md += "\n";
-  for (const std::string& row : l.rows) {
-    md += fmt::format("| {} |", row);
-    for (const std::string& m : l.modes) {
-      const auto it = l.at.find({row, m});
-      for (const char* stat : {"rmse", "mean", "median", "std"}) {
-        // fmt, not string concatenation: gcc 12 warns of a false overflow in operator+ here.
-        const std::string key = fmt::format("{}_{}{}", prefix, stat, unit);
-        md += fmt::format(" {} |",
-                          it == l.at.end() ? std::string("—") : cell_text(*it->second, key.c_str(), digits));
-      }
-    }
-    md += "\n";
+// The medians of an entry's statistics (results.json's PREFIX_STAT UNIT keys) as one ErrorStats.
+std::optional<eval::ErrorStats> median_stats(const json& e, const std::string& prefix, const char* unit) {
+  const auto rmse = median_of(e, fmt::format("{}_rmse{}", prefix, unit).c_str());
+  if (!rmse) return std::nullopt;
+  eval::ErrorStats s;
+  s.rmse = *rmse;
+  s.mean = median_of(e, fmt::format("{}_mean{}", prefix, unit).c_str()).value_or(0.0);
+  s.median = median_of(e, fmt::format("{}_median{}", prefix, unit).c_str()).value_or(0.0);
+  s.std_dev = median_of(e, fmt::format("{}_std{}", prefix, unit).c_str()).value_or(0.0);
+  return s;
+}
+
+// Tables 4-7, eta and Table 10 (eval/paper_tables.h), each cell the median over its repeats.
+std::string paper_tables(const Layout& l) {
+  eval::PaperTables tables(l.rows, l.modes);
+  for (const auto& [key, entry] : l.at) {
+    const json& e = *entry;
+    eval::PaperCell c;
+    c.ate = median_stats(e, "ate", "_m");
+    c.rpe_trans = median_stats(e, "rpe_trans", "_m_s");
+    c.rpe_rot = median_stats(e, "rpe_rot", "_deg_s");
+    c.time_mean_ms = median_of(e, "time_per_frame_mean_ms");
+    c.time_median_ms = median_of(e, "time_per_frame_ms");
+    c.y_ms = median_of(e, "yardstick_ms");
+    tables.set(key.first, key.second, c);
   }
-  return md + "\n";
+  return tables.error_tables() + tables.improvement_table() + tables.time_table();
 }
 
 std::string spread_table(const Layout& l) {
@@ -199,27 +201,6 @@ std::string spread_table(const Layout& l) {
   return md + "\n";
 }
 
-std::string time_table(const Layout& l) {
-  std::string md =
-      "### Table 10: time per frame (median over repeats of each run's median; ms, and Y of the same "
-      "run)\n\n| sequence |";
-  for (const std::string& m : l.modes) md += fmt::format(" {0} ms | {0} Y |", m);
-  md += "\n|---|";
-  for (std::size_t i = 0; i < l.modes.size(); ++i) md += "---|---|";
-  md += "\n";
-  for (const std::string& row : l.rows) {
-    md += fmt::format("| {} |", row);
-    for (const std::string& m : l.modes) {
-      const auto it = l.at.find({row, m});
-      md += it == l.at.end() ? std::string(" — | — |")
-                             : fmt::format(" {} | {} |", cell_text(*it->second, "time_per_frame_ms", 2),
-                                           cell_text(*it->second, "time_per_frame_y", 2));
-    }
-    md += "\n";
-  }
-  return md + "\n";
-}
-
 }  // namespace
 
 SweepTables collect_tables(const fs::path& dir, const std::vector<SweepCell>& cells) {
@@ -242,8 +223,9 @@ SweepTables collect_tables(const fs::path& dir, const std::vector<SweepCell>& ce
              x.config_hash == hash;
     });
     if (g == groups.end())
-      g = groups.insert(groups.end(), Group{c.sequence, c.mode, c.variant, version, hash, {}, {}});
+      g = groups.insert(groups.end(), Group{c.sequence, c.mode, c.variant, version, hash, {}, {}, {}});
     if (done) {
+      if (g->summaries.empty()) g->first_cell = c.id;
       g->summaries.push_back((*record)["summary"]);
     } else {
       g->errors.push_back(record->value("error", "failed"));
@@ -265,10 +247,7 @@ SweepTables collect_tables(const fs::path& dir, const std::vector<SweepCell>& ce
       "# Sweep {}\n\n{} cells: {} done, {} failed, {} missing. Each figure is the median over a "
       "cell's repeats.\n\n",
       fs::absolute(dir).lexically_normal().string(), cells.size(), t.done, t.failed, t.missing);
-  t.markdown += error_table(l, "Tables 4-5: ATE (m)", "ate", "_m", 4);
-  t.markdown += error_table(l, "Table 6: RPE translation (m/s)", "rpe_trans", "_m_s", 4);
-  t.markdown += error_table(l, "Table 7: RPE rotation (deg/s)", "rpe_rot", "_deg_s", 3);
-  t.markdown += time_table(l);
+  t.markdown += paper_tables(l);
   t.markdown += spread_table(l);
   for (const json& f : failures)
     t.markdown +=
