@@ -135,8 +135,7 @@ std::shared_ptr<BagSequence> BagSequence::open(const fs::path& file, const BagTo
     }
     seq->camera_ = read_camera(m.bag, file, topics.camera_info, types);
     if (!topics.gt_child.empty()) seq->ground_truth_ = read_ground_truth(m.bag, file, topics);
-    // An encoding it cannot read, or an image of another size than camera_info, fails now,
-    // before any tracking.
+    // An encoding it cannot read fails now, before any tracking.
     (void)seq->load_rgbd(0, 1.0);
   } catch (const rosbag::BagException& e) {
     throw file_error(file, std::string("cannot read the bag: ") + e.what());
@@ -164,7 +163,7 @@ lrd::io::RgbdFrame BagSequence::load_rgbd(std::size_t i,
   } catch (const rosbag::BagException& e) {
     throw file_error(file_, fmt::format("frame at {:.6f} cannot be read: {}", f.timestamp, e.what()));
   }
-  lrd::bag::check_frame_size(file_, topics_, f, camera_);
+  lrd::bag::check_frame_size(file_, topics_, f);
   return f;
 }
 

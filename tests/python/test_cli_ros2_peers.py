@@ -19,7 +19,7 @@ from cli import lrdslam, synth_input
 ROOT = Path(__file__).resolve().parents[2]
 MODULES = ROOT / "data" / "npm-ros2" / "node_modules"
 SCRIPT = ROOT / "tests" / "ros2" / "peer_bags.cjs"
-FRAMES = 30
+FRAMES = 40
 
 pytestmark = pytest.mark.skipif(
     shutil.which("node") is None or not (MODULES / "@mcap" / "core").is_dir()

@@ -104,7 +104,7 @@ async function writeBag(framesDir, outFile) {
 // MCAP chunks our writer compresses with zstd (the default) or lz4: Node 20 has neither, the
 // Debian command-line tools do.
 const viaTool = (tool) => (data, size) => {
-  const out = execFileSync(tool, ["-d", "-c", "-q"], { input: Buffer.from(data) });
+  const out = execFileSync(tool, ["-d", "-c", "-q"], { input: Buffer.from(data), maxBuffer: Number(size) + (1 << 20) });
   if (BigInt(out.length) !== size) throw new Error(`${tool}: ${out.length} bytes, the chunk says ${size}`);
   return new Uint8Array(out);
 };
@@ -123,7 +123,11 @@ async function readBag(file) {
     const ours = parse(new TextDecoder().decode(schema.data), { ros2: true });
     const official = officialDefinitions(schema.name);
     const fieldsOf = (d) => JSON.stringify(d.definitions.map((f) => [f.name, f.type.split("/").pop(), !!f.isArray, f.arrayLength ?? null]));
-    if (fieldsOf(ours[0]) !== fieldsOf(official[0]) || ours.length !== official.length) summary.schemasMatchOfficial = false;
+    // The root, then every type the official definition uses, field for field (builtin_interfaces
+    // types are primitives there).
+    const byName = new Map(ours.slice(1).map((d) => [d.name, d]));
+    const same = (o, i) => fieldsOf(i === 0 ? ours[0] : byName.get(o.name) ?? { definitions: [] }) === fieldsOf(o);
+    if (!official.every(same)) summary.schemasMatchOfficial = false;
     decoders.set(id, new MessageReader(official));
     summary.topics[channel.topic] = { type: schema.name, encoding: channel.messageEncoding, schemaEncoding: schema.encoding, count: 0, frameIds: [], stamps: [], sizes: [], encodings: [], dataBytes: [] };
   }

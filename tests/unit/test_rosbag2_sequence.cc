@@ -1,8 +1,10 @@
 // ROS 2 bags as frame sources: a sequence written as MCAP or sqlite3 reads back frame for frame,
 // bit for bit, with its camera and ground truth; every bad bag is one lrd::Error naming the file
 // (and the topic); and the /tf ground truth follows chains as tf2 does.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <opencv2/core.hpp>
 
 #include "error_of.h"
@@ -88,13 +90,15 @@ TEST_P(Rosbag2Formats, ASequenceReadsBackBitForBit) {
   const fs::path file = dir.path() / ("seq" + GetParam());
   write_rosbag2(source, camera_of(32, 24), file);
   // A .db3 is a rosbag2 folder: readable as the file and as the folder.
-  for (const fs::path& path : GetParam() == ".db3" ? std::vector<fs::path>{file, dir.path()} : std::vector{file}) {
+  for (const fs::path& path :
+       GetParam() == ".db3" ? std::vector<fs::path>{file, dir.path()} : std::vector{file}) {
     const auto seq = Rosbag2Sequence::open(path, with_ground_truth());
     ASSERT_EQ(seq->size(), source.size()) << path;
     for (std::size_t i = 0; i < source.size(); ++i) {
       EXPECT_EQ(seq->entry(i).timestamp, source.entry(i).timestamp);
       EXPECT_EQ(seq->entry(i).depth_timestamp, source.entry(i).depth_timestamp);
-      EXPECT_EQ(seq->entry(i).rgb_path, fs::path("rgb") / fmt::format("{:.6f}.png", source.entry(i).timestamp));
+      EXPECT_EQ(seq->entry(i).rgb_path,
+                fs::path("rgb") / fmt::format("{:.6f}.png", source.entry(i).timestamp));
       const io::RgbdFrame f = seq->load_rgbd(i, 5000.0), g = source.load_rgbd(i, 5000.0);
       EXPECT_TRUE(same_bits(f.rgb, g.rgb)) << i;
       EXPECT_TRUE(same_bits(f.depth, g.depth)) << i;
@@ -130,7 +134,8 @@ void write_bag_by_hand(const fs::path& file, const std::string& rgb_type,
   McapWriter w(file);
   const std::uint16_t s_rgb = w.add_schema(rgb_type, "ros2msg", "uint8 x\n");
   const std::uint16_t s_img = w.add_schema(msg::kImageType, "ros2msg", msg::definition(msg::kImageType));
-  const std::uint16_t s_info = w.add_schema(msg::kCameraInfoType, "ros2msg", msg::definition(msg::kCameraInfoType));
+  const std::uint16_t s_info =
+      w.add_schema(msg::kCameraInfoType, "ros2msg", msg::definition(msg::kCameraInfoType));
   const std::uint16_t rgb = w.add_channel(s_rgb, "/camera/rgb/image_color", "cdr");
   const std::uint16_t depth = w.add_channel(s_img, "/camera/depth/image", "cdr");
   const std::uint16_t info = w.add_channel(s_info, "/camera/rgb/camera_info", "cdr");
@@ -174,8 +179,9 @@ TEST(Rosbag2BadInput, AWrongTypeOnTheImageTopicNamesTheTopicAndBothTypes) {
   TempDir dir("rosbag2");
   const fs::path file = dir.path() / "x.mcap";
   write_bag_by_hand(file, msg::kCameraInfoType, [](int i) { return msg::encode(mono_image(i, 32, 24)); });
-  expect_one_line(error_of([&] { (void)Rosbag2Sequence::open(file); }), file,
-                  "topic /camera/rgb/image_color carries sensor_msgs/msg/CameraInfo, expected sensor_msgs/msg/Image");
+  expect_one_line(
+      error_of([&] { (void)Rosbag2Sequence::open(file); }), file,
+      "topic /camera/rgb/image_color carries sensor_msgs/msg/CameraInfo, expected sensor_msgs/msg/Image");
 }
 
 TEST(Rosbag2BadInput, AMessageShorterThanItsFieldsNamesTheTopicAndField) {
@@ -194,7 +200,8 @@ TEST(Rosbag2BadInput, AMessageShorterThanItsFieldsNamesTheTopicAndField) {
     bytes.resize(i == 2 ? 9 : bytes.size());  // its header cut short
     return bytes;
   });
-  expect_one_line(error_of([&] { (void)Rosbag2Sequence::open(file); }), file, "ends inside 'header.stamp.nanosec'");
+  expect_one_line(error_of([&] { (void)Rosbag2Sequence::open(file); }), file,
+                  "ends inside 'header.stamp.nanosec'");
 }
 
 TEST(Rosbag2BadInput, AnImageOfAnotherSizeThanCameraInfoIsNamed) {
@@ -203,8 +210,9 @@ TEST(Rosbag2BadInput, AnImageOfAnotherSizeThanCameraInfoIsNamed) {
   write_bag_by_hand(file, msg::kImageType, [](int i) { return msg::encode(mono_image(i, 32, 24)); });
   EXPECT_EQ(Rosbag2Sequence::open(file)->size(), 3u);  // the bag itself is good
   write_bag_by_hand(file, msg::kImageType, [](int i) { return msg::encode(mono_image(i, 40, 30)); });
-  expect_one_line(error_of([&] { (void)Rosbag2Sequence::open(file); }), file,
-                  "/camera/rgb/image_color at 100.000000 is 40x30 but its depth on /camera/depth/image is 32x24");
+  expect_one_line(
+      error_of([&] { (void)Rosbag2Sequence::open(file); }), file,
+      "/camera/rgb/image_color at 100.000000 is 40x30 but its depth on /camera/depth/image is 32x24");
   // Colour and depth of one size, camera_info of another.
   const MemorySource source(3, 32, 24);
   write_rosbag2(source, camera_of(64, 48), file);
@@ -218,8 +226,9 @@ TEST(Rosbag2BadInput, MissingTopicsPathsAndGroundTruthFramesAreNamed) {
   write_rosbag2(MemorySource(3, 32, 24), camera_of(32, 24), file);
   bag::BagTopics t;
   t.rgb = "/nope";
-  expect_one_line(error_of([&] { (void)Rosbag2Sequence::open(file, t); }), file,
-                  "topic /nope not found; the bag has /camera/depth/camera_info (sensor_msgs/msg/CameraInfo)");
+  expect_one_line(
+      error_of([&] { (void)Rosbag2Sequence::open(file, t); }), file,
+      "topic /nope not found; the bag has /camera/depth/camera_info (sensor_msgs/msg/CameraInfo)");
   t = with_ground_truth();
   t.gt_child = "/nowhere";
   expect_one_line(error_of([&] { (void)Rosbag2Sequence::open(file, t); }), file,

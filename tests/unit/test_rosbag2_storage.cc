@@ -2,6 +2,7 @@
 // and read back, and every broken file an lrd::Error of one line naming it.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 
 #include "error_of.h"
@@ -23,7 +24,9 @@ msg::Header header_of(std::int32_t sec, std::uint32_t nanosec, const std::string
   return {{sec, nanosec}, frame};
 }
 
-std::vector<std::uint8_t> bytes_of(const std::string& hex_free) { return {hex_free.begin(), hex_free.end()}; }
+std::vector<std::uint8_t> bytes_of(const std::string& hex_free) {
+  return {hex_free.begin(), hex_free.end()};
+}
 
 TEST(Cdr, ImageBytesAreLaidOutAsRosidlDoes) {
   msg::Image m;
@@ -34,15 +37,15 @@ TEST(Cdr, ImageBytesAreLaidOutAsRosidlDoes) {
   m.step = 2;
   m.data = {7, 9};
   const std::vector<std::uint8_t> expected = {
-      0, 1, 0, 0,                          // encapsulation: CDR little-endian
-      1, 0, 0, 0, 2, 0, 0, 0,              // stamp
-      2, 0, 0, 0, 'a', 0, 0, 0,            // frame_id "a" + NUL, padded to 4
-      1, 0, 0, 0, 2, 0, 0, 0,              // height, width
+      0, 1, 0, 0,                              // encapsulation: CDR little-endian
+      1, 0, 0, 0, 2,   0,   0,   0,            // stamp
+      2, 0, 0, 0, 'a', 0,   0,   0,            // frame_id "a" + NUL, padded to 4
+      1, 0, 0, 0, 2,   0,   0,   0,            // height, width
       6, 0, 0, 0, 'm', 'o', 'n', 'o', '8', 0,  // encoding
-      0,                                   // is_bigendian
-      0,                                   // pad to 4
-      2, 0, 0, 0,                          // step
-      2, 0, 0, 0, 7, 9};                   // data
+      0,                                       // is_bigendian
+      0,                                       // pad to 4
+      2, 0, 0, 0,                              // step
+      2, 0, 0, 0, 7,   9};                     // data
   EXPECT_EQ(msg::encode(m), expected);
   const msg::Image back = msg::decode_image(expected.data(), expected.size());
   EXPECT_EQ(back.header.stamp.sec, 1);
@@ -67,9 +70,13 @@ TEST(Cdr, CameraInfoRoundTripsWithEightByteAlignment) {
   m.binning_y = 3;
   m.roi = {4, 5, 6, 7, true};
   const std::vector<std::uint8_t> bytes = msg::encode(m);
-  // header 4 + stamp 8 + "/cam" 4+5 -> 21, pad 3 -> 24; height width 32; "plumb_bob" 4+10 -> 46;
-  // pad 2 -> 48; d's count 52, pad to 8 after the header (56 = 4 + 52); 5 + 30 doubles; 2 + 5 u32; bool.
-  EXPECT_EQ(bytes.size(), 56u + 35 * 8 + 7 * 4 + 1);
+  // After the 4-byte encapsulation, offsets count from 0: stamp 0-7, "/cam" 8-16, height and width
+  // 20-27, "plumb_bob" 28-41, d's count 44-47, its doubles from 48 (8-aligned), then k, r, p: 35
+  // doubles to 328, binning 328-335, roi 336-351, do_rectify 352.
+  EXPECT_EQ(bytes.size(), 4u + 48 + 35 * 8 + 6 * 4 + 1);
+  double first_d = 0.0;
+  std::memcpy(&first_d, bytes.data() + 4 + 48, 8);
+  EXPECT_EQ(first_d, 0.1);
   const msg::CameraInfo back = msg::decode_camera_info(bytes.data(), bytes.size());
   EXPECT_EQ(back.header.stamp.sec, -3);
   EXPECT_EQ(back.header.stamp.nanosec, 999999999u);
@@ -115,7 +122,9 @@ TEST(Cdr, AShortMessageNamesTheFieldItEndsIn) {
   const std::string h = error_of([&] { (void)msg::decode_image(bytes.data(), 10); });
   EXPECT_NE(h.find("ends inside 'header.stamp.nanosec'"), std::string::npos) << h;
   const std::vector<std::uint8_t> big_endian = {0, 0, 0, 0, 1, 2, 3, 4};
-  EXPECT_NE(error_of([&] { (void)msg::decode_header(big_endian.data(), big_endian.size()); }).find("not little-endian"),
+  EXPECT_NE(error_of([&] {
+              (void)msg::decode_header(big_endian.data(), big_endian.size());
+            }).find("not little-endian"),
             std::string::npos);
 }
 
@@ -123,7 +132,8 @@ TEST(Cdr, DefinitionsNameEveryTypeTheyUse) {
   const std::string d = msg::definition(msg::kTfMessageType);
   EXPECT_EQ(d.rfind("geometry_msgs/TransformStamped[] transforms\n", 0), 0u);
   EXPECT_NE(d.find(std::string(80, '=') + "\nMSG: geometry_msgs/Quaternion\n"), std::string::npos);
-  EXPECT_NE(msg::definition(msg::kCameraInfoType).find("MSG: sensor_msgs/RegionOfInterest\n"), std::string::npos);
+  EXPECT_NE(msg::definition(msg::kCameraInfoType).find("MSG: sensor_msgs/RegionOfInterest\n"),
+            std::string::npos);
   EXPECT_NE(error_of([] { (void)msg::definition("std_msgs/msg/String"); }).find("std_msgs/msg/String"),
             std::string::npos);
 }
@@ -183,9 +193,11 @@ TEST_P(McapCompressions, WhatIsWrittenReadsBackByteForByte) {
 
 INSTANTIATE_TEST_SUITE_P(Mcap, McapCompressions,
                          ::testing::Values(Compression::none, Compression::zstd, Compression::lz4),
-                         [](const auto& info) { return std::string(compression_name(info.param)).empty()
-                                                           ? std::string("none")
-                                                           : std::string(compression_name(info.param)); });
+                         [](const auto& info) {
+                           return std::string(compression_name(info.param)).empty()
+                                      ? std::string("none")
+                                      : std::string(compression_name(info.param));
+                         });
 
 TEST(Mcap, CompressedChunksAreSmallerAndEndInASummary) {
   TempDir dir("mcap");
@@ -211,25 +223,31 @@ TEST(Mcap, CompressedChunksAreSmallerAndEndInASummary) {
 
 // A hand-made file: header, one chunk with the given compression name and records, data end,
 // footer.
-void write_raw_mcap(const fs::path& file, const std::string& compression, const std::vector<std::uint8_t>& records,
-                    std::uint32_t crc) {
+void write_raw_mcap(const fs::path& file, const std::string& compression,
+                    const std::vector<std::uint8_t>& records, std::uint32_t crc) {
   using namespace mcap;
   std::vector<std::uint8_t> out(std::begin(kMagic), std::end(kMagic));
   const auto append = [&](const std::vector<std::uint8_t>& r) { out.insert(out.end(), r.begin(), r.end()); };
   append(record(kHeader, RecordBuilder().string("ros2").string("test")));
-  append(record(kChunk, RecordBuilder().u64(0).u64(0).u64(records.size()).u32(crc).string(compression)
-                            .u64(records.size()).raw(records.data(), records.size())));
+  append(record(kChunk, RecordBuilder()
+                            .u64(0)
+                            .u64(0)
+                            .u64(records.size())
+                            .u32(crc)
+                            .string(compression)
+                            .u64(records.size())
+                            .raw(records.data(), records.size())));
   append(record(kDataEnd, RecordBuilder().u32(0)));
   append(record(kFooter, RecordBuilder().u64(0).u64(0).u32(0)));
   out.insert(out.end(), std::begin(kMagic), std::end(kMagic));
-  std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(out.data()),
-                                               static_cast<std::streamsize>(out.size()));
+  std::ofstream(file, std::ios::binary)
+      .write(reinterpret_cast<const char*>(out.data()), static_cast<std::streamsize>(out.size()));
 }
 
 std::vector<std::uint8_t> sample_records() {
   using namespace mcap;
-  std::vector<std::uint8_t> r = record(kSchema, RecordBuilder().u16(1).string(msg::kImageType).string("ros2msg")
-                                                    .bytes(bytes_of("uint8 x")));
+  std::vector<std::uint8_t> r = record(
+      kSchema, RecordBuilder().u16(1).string(msg::kImageType).string("ros2msg").bytes(bytes_of("uint8 x")));
   const auto channel = record(kChannel, RecordBuilder().u16(1).u16(1).string("/img").string("cdr").u32(0));
   r.insert(r.end(), channel.begin(), channel.end());
   return r;

@@ -85,12 +85,15 @@ FramePairs pair_frames(const fs::path& file, const BagTopics& topics, const std:
   return out;
 }
 
-void check_frame_size(const fs::path& file, const BagTopics& topics, const io::RgbdFrame& f,
-                      const std::optional<io::SourceCamera>& camera) {
+void check_frame_size(const fs::path& file, const BagTopics& topics, const io::RgbdFrame& f) {
   if (f.rgb.size() != f.depth.size())
     throw file_error(
         file, fmt::format("{} at {:.6f} is {}x{} but its depth on {} is {}x{}", topics.rgb, f.timestamp,
                           f.rgb.cols, f.rgb.rows, topics.depth, f.depth.cols, f.depth.rows));
+}
+
+void check_camera_size(const fs::path& file, const BagTopics& topics, const io::RgbdFrame& f,
+                       const std::optional<io::SourceCamera>& camera) {
   if (camera && (camera->width != f.rgb.cols || camera->height != f.rgb.rows))
     throw file_error(
         file, fmt::format("{} at {:.6f} is {}x{} but {} says {}x{}", topics.rgb, f.timestamp, f.rgb.cols,

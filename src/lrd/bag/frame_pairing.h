@@ -40,9 +40,11 @@ struct FramePairs {
                                      const std::vector<double>& rgb_stamps,
                                      const std::vector<double>& depth_stamps);
 
-// A loaded frame against its depth and the bag's camera: throws lrd::Error naming the file and
-// topics when the sizes differ.
-void check_frame_size(const std::filesystem::path& file, const BagTopics& topics, const io::RgbdFrame& frame,
-                      const std::optional<io::SourceCamera>& camera);
+// A loaded frame's colour against its depth: throws lrd::Error naming the file and topics when
+// their sizes differ.
+void check_frame_size(const std::filesystem::path& file, const BagTopics& topics, const io::RgbdFrame& frame);
+// A loaded frame against the bag's camera_info, likewise.
+void check_camera_size(const std::filesystem::path& file, const BagTopics& topics, const io::RgbdFrame& frame,
+                       const std::optional<io::SourceCamera>& camera);
 
 }  // namespace lrd::bag

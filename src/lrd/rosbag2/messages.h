@@ -83,9 +83,9 @@ inline constexpr const char* kTfMessageType = "tf2_msgs/msg/TFMessage";
 // The header alone of any message that starts with one (an image's stamp without its pixels).
 [[nodiscard]] Header decode_header(const std::uint8_t* data, std::size_t size);
 
-// The type's definition as ROS 2 stores it in an MCAP schema (encoding "ros2msg"): its .msg text,
-// then each type it uses after a line of 80 '=' and "MSG: package/msg/Type". Throws lrd::Error for
-// a type other than the three above.
+// The type's definition as rosbag2 stores it in an MCAP schema (encoding "ros2msg"): its .msg
+// text, then each type it uses after a line of 80 '=' and "MSG: package/Type". Throws lrd::Error
+// for a type other than the three above.
 [[nodiscard]] std::string definition(const std::string& type);
 
 }  // namespace lrd::rosbag2::msg

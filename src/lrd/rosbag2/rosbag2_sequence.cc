@@ -144,7 +144,8 @@ io::RgbdFrame Rosbag2Sequence::load_rgbd(std::size_t i,
   };
   f.rgb = read(topics_.rgb, rgb_[i], bag::colour_from_image);
   f.depth = read(topics_.depth, depth_[i], bag::depth_from_image);
-  bag::check_frame_size(storage_->file(), topics_, f, camera_);
+  bag::check_frame_size(storage_->file(), topics_, f);
+  bag::check_camera_size(storage_->file(), topics_, f, camera_);
   return f;
 }
 

@@ -175,9 +175,12 @@ void write_rosbag2(const io::FrameSource& source, const camera::PinholeCamera& c
   std::unique_ptr<MessageSink> sink;
   if (bag.extension() == ".mcap")
     sink = std::make_unique<McapSink>(bag, compression);
-  else if (bag.extension() == ".db3")
+  else if (bag.extension() == ".db3") {
+    // A .db3 and its metadata.yaml are a rosbag2 bag folder: made as `ros2 bag record` makes it.
+    std::error_code ec;
+    if (bag.has_parent_path()) fs::create_directories(bag.parent_path(), ec);
     sink = std::make_unique<Sqlite3Sink>(bag);
-  else
+  } else
     throw file_error(bag, "a ROS 2 bag is written as FILE.mcap or FILE.db3");
   write_messages(source, camera, layout, *sink);
   sink->close();
