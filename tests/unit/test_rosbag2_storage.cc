@@ -264,6 +264,7 @@ TEST(Mcap, BrokenFilesAreOneLineErrorsNamingTheFile) {
     EXPECT_EQ(e.rfind(file.string() + ": ", 0), 0u) << e;
     EXPECT_NE(e.find(part), std::string::npos) << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    EXPECT_EQ(e.find(file.string(), 1), std::string::npos) << "the file named once: " << e;
   };
   for (const std::size_t keep : {bytes.size() - 1, bytes.size() / 2, std::size_t{20}, std::size_t{3}})
     expect_error(dir.write("cut" + std::to_string(keep) + ".mcap", bytes.substr(0, keep)),

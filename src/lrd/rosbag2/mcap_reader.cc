@@ -92,7 +92,7 @@ void McapReader::scan() {
         take_record(r.opcode, r.content.data(), r.content.size(), 0, r.offset + kRecordHead);
       }
     } catch (const lrd::Error& e) {
-      throw error(fmt::format("record at byte {}: {}", r.offset, e.what()));
+      throw error(r.opcode == kChunk ? e.what() : fmt::format("record at byte {}: {}", r.offset, e.what()));
     }
   }
   if (r.opcode == kDataEnd) {
@@ -113,7 +113,6 @@ std::vector<std::uint8_t> McapReader::chunk_records(const Record& chunk) const {
   const std::string compression = f.string();
   std::size_t n = 0;
   const std::uint8_t* data = f.bytes(n, true);
-  const char* what = "chunk";
   try {
     if (uncompressed_size > (std::uint64_t{1} << 34)) throw lrd::Error("implausible uncompressed size");
     std::vector<std::uint8_t> records =
@@ -124,7 +123,7 @@ std::vector<std::uint8_t> McapReader::chunk_records(const Record& chunk) const {
           fmt::format("CRC mismatch: its records' CRC is {:08x}, the chunk says {:08x}", actual, crc));
     return records;
   } catch (const lrd::Error& e) {
-    throw error(fmt::format("{} at byte {}: {}", what, chunk.offset, e.what()));
+    throw lrd::Error(fmt::format("chunk at byte {}: {}", chunk.offset, e.what()));
   }
 }
 
@@ -195,7 +194,11 @@ const std::vector<std::uint8_t>& McapReader::cached_chunk(std::uint64_t offset) 
     in_.read(reinterpret_cast<char*>(r.content.data()), static_cast<std::streamsize>(length));
     if (!in_ || r.opcode != kChunk)
       throw error(fmt::format("cannot read the chunk at byte {} again", offset));
-    cached_ = chunk_records(r);
+    try {
+      cached_ = chunk_records(r);
+    } catch (const lrd::Error& e) {
+      throw error(e.what());
+    }
     cached_offset_ = offset;
   }
   return cached_;

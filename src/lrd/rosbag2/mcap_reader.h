@@ -43,6 +43,7 @@ class McapReader final : public BagStorage {
   // The records inside a chunk (or, for outer_offset 0, one record outside any).
   void take_record(std::uint8_t opcode, const std::uint8_t* data, std::size_t n, std::uint64_t chunk_offset,
                    std::uint64_t offset_in_chunk);
+  // The chunk's records decompressed and checked; lrd::Error "chunk at byte N: problem".
   [[nodiscard]] std::vector<std::uint8_t> chunk_records(const Record& chunk) const;
   [[nodiscard]] const std::vector<std::uint8_t>& cached_chunk(std::uint64_t offset) const;
   [[nodiscard]] lrd::Error error(const std::string& problem) const;
