@@ -177,9 +177,10 @@ void register_run_command(CLI::App& app) {
       "run", "Run SLAM on a TUM-layout RGB-D sequence folder, a rosbag or a synthetic preset");
   auto* sequence = cmd->add_option("--sequence", cli->sequence,
                                    "Sequence folder (rgb.txt + depth.txt, or associations.txt)");
-  auto* bag =
-      cmd->add_option("--bag", cli->bag.bag,
-                      "Read the frames from a rosbag in the TUM RGB-D layout instead (no roscore needed)");
+  auto* bag = cmd->add_option(
+      "--bag", cli->bag.bag,
+      "Read the frames from a bag in the TUM RGB-D layout instead: a ROS 1 .bag, or a ROS 2 bag "
+      "(.mcap, .db3, or a rosbag2 folder); no ROS running or installed for ROS 2");
   sequence->excludes(bag);
   auto* synth =
       cmd->add_option("--synth", cli->synth,

@@ -43,8 +43,9 @@ void register_synth_command(CLI::App& app) {
   cmd->add_option("--out", *out, "Output folder")->required(false);
   auto bag = std::make_shared<std::string>();
   cmd->add_option("--bag", *bag,
-                  "Also write the sequence as a TUM-style rosbag (the TUM bags' topics, types and frame ids, "
-                  "camera_info, /tf /world -> /kinect ground truth)");
+                  "Also write the sequence as a TUM-style bag (the TUM bags' topics, types and frame ids, "
+                  "camera_info, /tf /world -> /kinect ground truth): FILE.bag for ROS 1, FILE.mcap (MCAP, "
+                  "zstd chunks) or FILE.db3 (sqlite3, with metadata.yaml beside it) for ROS 2");
   cmd->add_option("--seed", opts->seed, "Random seed (actors' looks and timing, camera tremor, sensor noise)")
       ->capture_default_str();
   cmd->add_option("--frames", opts->frames,

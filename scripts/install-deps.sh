@@ -11,6 +11,9 @@ PACKAGES=(
   # libraries
   libopencv-dev libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev zlib1g-dev
   nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
+  # ROS 2 bags (rosbag2/, our own reader and writer): sqlite3 storage, MCAP's zstd and LZ4 chunks
+  libsqlite3-dev libzstd-dev liblz4-dev
+  zstd lz4  # their command-line tools: the Node.js cross-check (tests/ros2/) decompresses chunks with them
   liboctomap-dev octomap-tools  # the occupancy map (issue 25); octovis-free tools to inspect .bt files
   # Python side (tests, reference evaluators, FNet training) — always /usr/bin/python3
   python3 python3-numpy python3-opencv python3-pytest python3-yaml

@@ -13,6 +13,9 @@ bash scripts/install-deps.sh
 bash scripts/fetch-models.sh || echo "warning: scripts/fetch-models.sh failed; the selfie presets are unavailable" >&2
 # The charting library the HTML report inlines (npm package uplot into data/web/); its tests need it.
 bash scripts/fetch-web-assets.sh
+# Foxglove's MCAP and ROS 2 CDR packages (npm, into data/npm-ros2/): the ROS 2 bag cross-check
+# (tests/ros2/); without them its tests skip.
+bash scripts/fetch-ros2-test-peers.sh
 cmake --preset asan
 cmake --build --preset asan -j "$(nproc)"
 # Unity batches (LRD_UNITY_BUILD, as the asan and tsan presets have): minutes less on two cores. It

@@ -2,29 +2,22 @@
 // An RGB-D sequence read straight from a rosbag (rosbag_storage: no roscore), in the layout of the
 // TUM RGB-D bags: colour and depth images on two topics, a camera_info, and the motion-capture
 // ground truth on /tf. Colour and depth pair by associate.py's rule, as the folder reader does, so
-// the same frames give the same run from a bag and from a folder.
+// the same frames give the same run from a bag and from a folder. Everything but the message
+// format is shared with the ROS 2 bag reader (lrd/bag/).
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "lrd/bag/bag_layout.h"
 #include "lrd/io/frame_source.h"
 
 namespace lrd_ros {
 
-struct BagTopics {
-  std::string rgb = "/camera/rgb/image_color";          // sensor_msgs/Image, colour
-  std::string depth = "/camera/depth/image";            // sensor_msgs/Image, 32FC1 m or 16UC1 mm
-  std::string camera_info = "/camera/rgb/camera_info";  // optional: the camera when none is given
-  // --gt-from-tf PARENT:CHILD: the ground truth is CHILD's pose in PARENT from /tf (and
-  // /tf_static), e.g. "/world" and "/kinect" in the TUM bags. Empty: none.
-  std::string gt_parent, gt_child;
-  double max_dt = 0.02;  // colour-depth association, s
-};
-
-// "PARENT:CHILD" -> (parent, child); throws lrd::Error naming the option for anything else.
-[[nodiscard]] std::pair<std::string, std::string> parse_tf_pair(const std::string& text);
+// The topics and ground-truth frames, and --gt-from-tf's parser, shared with the ROS 2 reader.
+using BagTopics = lrd::bag::BagTopics;
+using lrd::bag::parse_tf_pair;
 
 class BagSequence final : public lrd::io::FrameSource {
  public:

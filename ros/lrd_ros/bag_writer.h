@@ -3,22 +3,15 @@
 // TUM RGB-D bags, so what reads theirs reads ours (`lrdslam synth --bag`).
 #include <filesystem>
 
+#include "lrd/bag/bag_layout.h"
 #include "lrd/camera/pinhole_camera.h"
 #include "lrd/io/frame_source.h"
 #include "lrd_ros/bag_sequence.h"
 
 namespace lrd_ros {
 
-struct BagLayout {
-  BagTopics topics;  // rgb, depth, camera_info; gt_parent/gt_child name the /tf ground truth
-  std::string depth_camera_info = "/camera/depth/camera_info";
-  std::string rgb_frame = "/openni_rgb_optical_frame";
-  std::string depth_frame = "/openni_depth_optical_frame";
-  BagLayout() {
-    topics.gt_parent = "/world";
-    topics.gt_child = "/kinect";
-  }
-};
+// The topics and frame ids, shared with the ROS 2 bag writer.
+using BagLayout = lrd::bag::BagLayout;
 
 // Each frame of `source` as colour (rgb8), depth (32FC1 metres, exactly the floats the source
 // decodes), and camera_info on both cameras' topics, stamped with the frame's timestamps; its

@@ -1,5 +1,6 @@
 #pragma once
-// sensor_msgs images and camera_info to and from what lrd-slam works with, checked: every field
+// sensor_msgs images and camera_info to and from what lrd-slam works with (the checks and
+// conversions shared with ROS 2 bags, lrd/bag/), checked: every field
 // of a message is validated before a byte of its data is read, so a malformed message is an
 // lrd::Error ("encoding 'yuv422' is not a colour encoding ...") and never a crash. Callers add
 // where the message came from (a bag and topic, a subscription).
