@@ -113,10 +113,11 @@ def test_synth_render_equals_the_written_frames(walking):
     np.testing.assert_allclose(seq.ground_truth[:, 1:4], np.loadtxt(walking / "groundtruth.txt")[:, 1:4], atol=1e-9)
 
 
-def test_read_sequence_reads_a_bag_as_the_folder(walking, tmp_path):
+@pytest.mark.parametrize("suffix", [".bag", ".mcap", ".db3"])
+def test_read_sequence_reads_a_bag_as_the_folder(walking, tmp_path, suffix):
     import subprocess
     from conftest import BIN
-    bag = tmp_path / "walking.bag"
+    bag = tmp_path / ("walking" + suffix)
     r = subprocess.run([BIN, "synth", "--preset", "walking_xyz", "--frames", "12", "--out", tmp_path / "seq",
                         "--bag", bag], capture_output=True, text=True)
     if r.returncode != 0 and "without ROS" in r.stderr:
@@ -126,6 +127,7 @@ def test_read_sequence_reads_a_bag_as_the_folder(walking, tmp_path):
     from_folder = lrdslam.io.read_sequence(tmp_path / "seq")
     assert len(from_bag) == len(from_folder) == 12
     assert from_bag.camera["fx"] == pytest.approx(535.4) and from_folder.camera is None
+    assert from_bag.path == str(bag)
     for i in (0, 11):
         np.testing.assert_array_equal(from_bag[i].rgb, from_folder[i].rgb)
         np.testing.assert_allclose(from_bag[i].depth, from_folder[i].depth, atol=1e-6)

@@ -104,3 +104,18 @@ def test_bad_arguments_fail_before_anything_runs(tmp_path, args, message):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and message in lines[0], r.stderr
     assert not (d / "manifest.json").exists()
+
+
+def test_the_report_page_shows_every_repeat(swept):
+    from cli import page_data
+    d, _ = swept
+    lrdslam("report", d)
+    data = page_data((d / "report.html").read_text())
+    results = json.loads((d / "results.json").read_text())
+    assert data["kind"] == "benchmark" and data["results"]["repeats"] is True
+    runs = {(r["preset"], r["mode"]): r for r in data["results"]["runs"]}
+    for e in results["entries"]:
+        r = runs[(e["sequence"], e["mode"])]
+        assert r["ate_rmse_runs"] == e["ate_rmse_m"]["runs"] and r["ate_m"]["rmse"] == e["ate_rmse_m"]["median"]
+    # Each sequence's trajectories, read from its first complete repeat with the ground truth beside it.
+    assert set(data["trajectories"]["walking_xyz"]["modes"]) == {"static", "geometric"}
