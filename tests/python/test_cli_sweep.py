@@ -119,3 +119,25 @@ def test_the_report_page_shows_every_repeat(swept):
         assert r["ate_rmse_runs"] == e["ate_rmse_m"]["runs"] and r["ate_m"]["rmse"] == e["ate_rmse_m"]["median"]
     # Each sequence's trajectories, read from its first complete repeat with the ground truth beside it.
     assert set(data["trajectories"]["walking_xyz"]["modes"]) == {"static", "geometric"}
+
+
+def test_cells_of_another_binary_are_not_pooled(swept, tmp_path):
+    import shutil
+    d, _ = swept
+    copy = tmp_path / "copy"
+    shutil.copytree(d, copy)
+    result = copy / "cells" / "walking_xyz__static__default__r1" / "result.json"
+    record = json.loads(result.read_text())
+    record["version"] = "0.0.9 (0123456789ab)"
+    result.write_text(json.dumps(record))
+    out = lrdslam("sweep", "collect", copy).stdout
+    entries = [e for e in json.loads((copy / "results.json").read_text())["entries"]
+               if (e["sequence"], e["mode"]) == ("walking_xyz", "static")]
+    assert sorted(e["repeats"] for e in entries) == [1, 1]
+    assert {e["version"] for e in entries} == {"0.0.9 (0123456789ab)", record_version(d)}
+    assert "walking_xyz [0.0.9 (0123456789ab)" in out  # its own row, marked with the version
+
+
+def record_version(d):
+    record = json.loads((d / "cells" / "walking_xyz__static__default__r0" / "result.json").read_text())
+    return record["version"]
