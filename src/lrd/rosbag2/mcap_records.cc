@@ -42,28 +42,25 @@ std::uint8_t FieldReader::u8() {
   return data_[pos_++];
 }
 
-std::uint16_t FieldReader::u16() {
-  need(2);
-  std::uint16_t v;
-  std::memcpy(&v, data_ + pos_, 2);
-  pos_ += 2;
+template <typename T>
+T FieldReader::fixed() {
+  need(sizeof(T));
+  T v;
+  std::memcpy(&v, data_ + pos_, sizeof(T));
+  pos_ += sizeof(T);
   return v;
+}
+
+std::uint16_t FieldReader::u16() {
+  return fixed<std::uint16_t>();
 }
 
 std::uint32_t FieldReader::u32() {
-  need(4);
-  std::uint32_t v;
-  std::memcpy(&v, data_ + pos_, 4);
-  pos_ += 4;
-  return v;
+  return fixed<std::uint32_t>();
 }
 
 std::uint64_t FieldReader::u64() {
-  need(8);
-  std::uint64_t v;
-  std::memcpy(&v, data_ + pos_, 8);
-  pos_ += 8;
-  return v;
+  return fixed<std::uint64_t>();
 }
 
 std::string FieldReader::string() {

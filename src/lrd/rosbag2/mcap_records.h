@@ -64,6 +64,9 @@ class FieldReader {
 
  private:
   void need(std::size_t n) const;
+  // A little-endian fixed-size field (MCAP's integers; x86-64 reads them as they are).
+  template <typename T>
+  T fixed();
   const std::uint8_t* data_;
   std::size_t size_, pos_ = 0;
   const char* record_;
