@@ -3,50 +3,49 @@
 (lrdslam.System.track_rgbd, timed around the call: the numpy wrapping, the GIL release and the
 result's conversion included) and of `lrdslam run --preload` (track_times.txt's total: the
 tracking thread's time per frame) on the same frames, interleaved (CLI, Python, CLI, Python, ...),
-each against Y measured right after it (bench_orb on the same frames). Both decode every frame
-before the first is tracked, so neither competes with a decoding thread. Bar: Python's median
-within 5 % of the CLI's, in Y.
+each against the Y measured in that run (OpenCV's ORB timed on every frame in the tracking thread
+beside the extraction: `run --yardstick`, `System(yardstick=True)`; not part of the per-frame time,
+and taken out of the Python call's wall time). Both decode every frame before the first is tracked,
+so neither competes with a decoding thread. Bar: Python's median within 5 % of the CLI's, in Y.
 
     PYTHONPATH=build/release/python bench/python_speed.py [--preset walking_xyz] [--frames 300]
         [--mode full] [--rounds 3] [--out out/bench/python] [--build build/release]
 """
 import argparse
+import json
 import os
-import re
 import statistics
 import subprocess
 import sys
 import time
 
 
-def yardstick(build, folder, frames):
-    r = subprocess.run([f"{build}/bin/bench_orb", folder, str(frames)], capture_output=True, text=True, check=True)
-    return float(re.search(r"^Y .* median\s+([\d.]+) ms", r.stdout, re.M).group(1))
-
-
 def run_cli(build, folder, mode, out):
     subprocess.run([f"{build}/bin/lrdslam", "run", "--sequence", folder, "--mode", mode, "--preload", "--quiet",
-                    "--out", out], check=True, stdout=subprocess.DEVNULL)
+                    "--yardstick", "--out", out], check=True, stdout=subprocess.DEVNULL)
     with open(os.path.join(out, "track_times.txt")) as f:
         rows = [line.split() for line in f if not line.startswith("#")]
-    return [float(r[9]) for r in rows if r[10] == "ok"]
+    with open(os.path.join(out, "summary.json")) as f:
+        y = json.load(f)["per_frame"]["yardstick"]["median_ms"]
+    return [float(r[9]) for r in rows if r[10] == "ok"], y
 
 
 def run_python(folder, mode):
     import lrdslam
     seq = lrdslam.io.read_sequence(folder)
     frames = [seq[i] for i in range(len(seq))]  # decoded before tracking, as --preload does
-    slam = lrdslam.System(sequence=folder, mode=mode)
-    wall, inner = [], []
+    slam = lrdslam.System(sequence=folder, mode=mode, yardstick=True)
+    wall, inner, ys = [], [], []
     for f in frames:
         t0 = time.perf_counter()
         r = slam.track_rgbd(f.rgb, f.depth, f.timestamp)
-        dt = time.perf_counter() - t0
+        dt = time.perf_counter() - t0 - r.timing["yardstick"]
+        ys.append(r.timing["yardstick"] * 1000.0)
         if r.state == "ok":
             wall.append(dt * 1000.0)
             inner.append(r.timing["total"] * 1000.0)
     slam.shutdown()
-    return wall, inner
+    return wall, inner, statistics.median(ys)
 
 
 def main():
@@ -63,15 +62,13 @@ def main():
     if not os.path.exists(os.path.join(folder, "rgb.txt")):
         subprocess.run([f"{a.build}/bin/lrdslam", "synth", "--preset", a.preset, "--frames", str(a.frames),
                         "--out", folder], check=True, stdout=subprocess.DEVNULL)
-    print(f"{a.preset}, {a.frames} frames, mode {a.mode}; per-frame ms over tracked frames; Y = bench_orb median")
+    print(f"{a.preset}, {a.frames} frames, mode {a.mode}; per-frame ms over tracked frames; Y = the run's own")
     print("| round | run | Y (ms) | median (ms) | mean (ms) | median (Y) | mean (Y) | frames |")
     print("|---|---|---|---|---|---|---|---|")
     ratios = []
     for k in range(a.rounds):
-        cli = run_cli(a.build, folder, a.mode, os.path.join(a.out, f"cli_{k}"))
-        y_cli = yardstick(a.build, folder, a.frames)
-        wall, inner = run_python(folder, a.mode)
-        y_py = yardstick(a.build, folder, a.frames)
+        cli, y_cli = run_cli(a.build, folder, a.mode, os.path.join(a.out, f"cli_{k}"))
+        wall, inner, y_py = run_python(folder, a.mode)
         rows = [("CLI", y_cli, cli), ("Python (call)", y_py, wall), ("Python (inside)", y_py, inner)]
         for name, y, v in rows:
             med, mean = statistics.median(v), statistics.fmean(v)
