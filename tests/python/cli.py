@@ -40,3 +40,21 @@ def page_data(html):
     m = re.search(r'<script type="application/json" id="report-data">(.*?)</script>', html, re.S)
     assert m, "no report data in the page"
     return json.loads(m.group(1))
+
+
+def run_bag_and_folder(folder, bag, out, frames, *run_args):
+    """`lrdslam run` on a sequence folder and on the bag of the same frames (ground truth from /tf),
+    both into OUT/folder and OUT/bag; asserts the bag's camera came from its camera_info, the two
+    trajectories are byte-identical with a pose per frame, and so are their ATEs. Returns the bag
+    run's summary.json."""
+    lrdslam("run", "--sequence", folder, "--out", out / "folder", *run_args)
+    r = lrdslam("run", "--bag", bag, "--gt-from-tf", "/world:/kinect", "--out", out / "bag", *run_args)
+    assert "camera: camera_info /camera/rgb/camera_info in" in r.stdout
+    a = (out / "folder" / "CameraTrajectory.txt").read_bytes()
+    b = (out / "bag" / "CameraTrajectory.txt").read_bytes()
+    assert len(a.splitlines()) == frames + 1
+    assert a == b
+    sa = json.loads((out / "folder" / "summary.json").read_text())
+    sb = json.loads((out / "bag" / "summary.json").read_text())
+    assert sb["ate"]["rmse"] == sa["ate"]["rmse"]
+    return sb

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import yaml
 
-from cli import lrdslam, synth_input
+from cli import run_bag_and_folder, synth_input
 
 ROOT = Path(__file__).resolve().parents[2]
 MODULES = ROOT / "data" / "npm-ros2" / "node_modules"
@@ -75,17 +75,7 @@ def test_a_bag_written_by_mcap_core_runs_as_its_folder(sequence, tmp_path):
     _raw_frames(folder, tmp_path / "raw")
     peer = tmp_path / "peer.mcap"
     _node("write", tmp_path / "raw", peer)
-    common = ["--deterministic", "--quiet"]
-    lrdslam("run", "--sequence", folder, "--out", tmp_path / "folder", *common)
-    r = lrdslam("run", "--bag", peer, "--gt-from-tf", "/world:/kinect", "--out", tmp_path / "bag", *common)
-    assert "camera: camera_info /camera/rgb/camera_info in" in r.stdout
-    a = (tmp_path / "folder" / "CameraTrajectory.txt").read_bytes()
-    b = (tmp_path / "bag" / "CameraTrajectory.txt").read_bytes()
-    assert len(a.splitlines()) == FRAMES + 1
-    assert a == b
-    sa = json.loads((tmp_path / "folder" / "summary.json").read_text())
-    sb = json.loads((tmp_path / "bag" / "summary.json").read_text())
-    assert sb["ate"]["rmse"] == sa["ate"]["rmse"]
+    run_bag_and_folder(folder, peer, tmp_path, FRAMES, "--deterministic", "--quiet")
 
 
 def test_every_message_of_our_bag_decodes_with_the_official_definitions(sequence, tmp_path):

@@ -5,7 +5,7 @@ import subprocess
 
 import pytest
 
-from cli import lrdslam
+from cli import lrdslam, run_bag_and_folder
 
 FRAMES = 80
 
@@ -31,16 +31,7 @@ def test_the_bag_has_the_tum_topics_types_and_ground_truth(sequence):
 def test_a_bag_and_its_folder_give_the_same_trajectory_bit_for_bit(sequence, tmp_path):
     folder, bag = sequence
     common = ["--deterministic", "--mode", "full", "--segmenter", "fnet", "--quiet"]
-    lrdslam("run", "--sequence", folder, "--out", tmp_path / "folder", *common)
-    r = lrdslam("run", "--bag", bag, "--gt-from-tf", "/world:/kinect", "--out", tmp_path / "bag", *common)
-    assert "camera: camera_info /camera/rgb/camera_info in" in r.stdout
-    a = (tmp_path / "folder" / "CameraTrajectory.txt").read_bytes()
-    b = (tmp_path / "bag" / "CameraTrajectory.txt").read_bytes()
-    assert len(a.splitlines()) == FRAMES + 1
-    assert a == b
-    sa = json.loads((tmp_path / "folder" / "summary.json").read_text())
-    sb = json.loads((tmp_path / "bag" / "summary.json").read_text())
-    assert sb["ate"]["rmse"] == sa["ate"]["rmse"]
+    sb = run_bag_and_folder(folder, bag, tmp_path, FRAMES, *common)
     assert sb["ate"]["rmse"] < 0.02
     assert sb["frames"] == FRAMES
 
