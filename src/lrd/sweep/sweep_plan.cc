@@ -131,12 +131,7 @@ std::vector<Input> inputs_of(const SweepSpec& spec) {
 }  // namespace
 
 std::string content_hash(const std::string& bytes) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 1099511628211ULL;
-  }
-  return fmt::format("{:016x}", h);
+  return fmt::format("{:016x}", util::fnv1a64(bytes));
 }
 
 SweepPlan plan_sweep(const SweepSpec& spec) {
