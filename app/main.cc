@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   lrd::app::register_vocab_command(app);
   lrd::app::register_report_command(app);
   lrd::app::register_sweep_command(app);
+  lrd::app::register_ros2_play_command(app);
 
   try {
     app.parse(argc, argv);

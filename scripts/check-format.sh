@@ -11,7 +11,7 @@ if ! command -v "$CLANG_FORMAT" >/dev/null 2>&1; then
 fi
 mapfile -t files < <(git ls-files --cached --others --exclude-standard -- \
   'src/*.cc' 'src/*.h' 'app/*.cc' 'app/*.h' 'bench/*.cc' 'bench/*.h' 'tests/*.cc' 'tests/*.h' \
-  'tools/*.cc' 'tools/*.h' 'examples/*.cc' 'examples/*.h' 'ros/*.cc' 'ros/*.h' 'python/*.cc' 'python/*.h')
+  'tools/*.cc' 'tools/*.h' 'examples/*.cc' 'examples/*.h' 'ros/*.cc' 'ros/*.h' 'ros2/*.cc' 'ros2/*.h' 'python/*.cc' 'python/*.h')
 unclean=()
 for f in "${files[@]}"; do
   [ -f "$f" ] || continue

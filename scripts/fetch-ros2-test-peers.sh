@@ -18,12 +18,13 @@ source "scripts/npm-fetch.sh"
 
 die() { echo "fetch-ros2-test-peers: $*" >&2; exit 1; }
 
-# fetch_and_unpack PACKAGE VERSION INTEGRITY
+# fetch_and_unpack PACKAGE VERSION INTEGRITY [MODULES_DIR]: unpacked into MODULES_DIR/PACKAGE
+# (default $MODULES, the top level; a package's own node_modules/ for a version only it uses).
 fetch_and_unpack() {
-  local package=$1 version=$2 integrity=$3
+  local package=$1 version=$2 integrity=$3 modules=${4:-$MODULES}
   # npm pack names a scoped package's tarball without the @ and with - for /.
   local flat=${package#@}
-  local tarball="$TARBALLS/${flat//\//-}-$version.tgz" target="$MODULES/$package"
+  local tarball="$TARBALLS/${flat//\//-}-$version.tgz" target="$modules/$package"
   if [ -f "$target/.from-tarball" ] && [ "$(cat "$target/.from-tarball")" = "$version $integrity" ]; then
     return
   fi
@@ -60,4 +61,25 @@ fetch_and_unpack md5-typescript 1.0.5 \
   "sha512-ovAc4EtiNt2dY8JPhPr/wkC9h4U5k/nuClNVcG0Ga3V1rMlYpAY24ZaaymFXJlz+ccJ6UMPo3FSaVKe7czBsXw=="
 fetch_and_unpack @foxglove/rosmsg-msgs-common 3.2.3 \
   "sha512-i+pdyOAGb7DHDaIRON+zGy2izW3kQewRImOcHGzGWib3dOaTvoI5RoapOykDQyND9L9E8QbLntCSSAKHBBfOsg=="
+# ROS 2 over DDS (tests/ros2/ros2_listener.cjs): Foxglove's pure-JavaScript RTPS participant and
+# ROS 2 node, an independent subscriber to our node. They need older majors of cdr, rosmsg and
+# rosmsg2-serialization than the bag tools above, so these (and avl 1.5, as avl 1.6 is ESM-only and
+# rtps require()s it) are nested under @foxglove/ros2/node_modules/, where Node resolves them first
+# from ros2 and rtps; tslib (which ros2's dist requires without declaring it), @foxglove/rostime and
+# md5-typescript resolve from the top level.
+fetch_and_unpack @foxglove/ros2 1.0.8 \
+  "sha512-R7FGNDH/8A6CEaWLe2ta+t0GlmHYwm7JyS0GRKTzfD1Z6Af+DL+AzKyk1bovvtZT2/tJQhy+UACurjGDlTN82g=="
+ROS2_NESTED="$MODULES/@foxglove/ros2/node_modules"
+fetch_and_unpack @foxglove/rtps 1.6.0 \
+  "sha512-iPcG1Q3sjNxBOgnPHteHukxopSymHhscZiury0dJZTz7gRLJ6SbgcG5qHytSrmQyTmOyynHjNinWo00hetIEdg==" "$ROS2_NESTED"
+fetch_and_unpack @foxglove/cdr 2.1.0 \
+  "sha512-2jNHDt3EitikewW7pDzkh0BLx1qc1clXmgdbNRI8g4lpaib4EZ9pFdcVtbJ8iP9/yev6xustPSHqRPVWwtuFzQ==" "$ROS2_NESTED"
+fetch_and_unpack @foxglove/rosmsg2-serialization 1.1.1 \
+  "sha512-J4xhO3hca5D5MGcHt9GrwQfZh7IRRMr94ty12E7WEUhv3KAAw4vHU8Ei89CYj9yPQSwRC0Vpr7QyxDXEMQ0v3w==" "$ROS2_NESTED"
+fetch_and_unpack @foxglove/rosmsg 3.1.0 \
+  "sha512-uvL3a3PRusrQw4tg91tsXfPMCWjsKV35nAaHkzPqRt4bZRzO2DAUMavCltjRux5Hc8WLPYWt77iUSk3KfxqUZQ==" "$ROS2_NESTED"
+fetch_and_unpack avl 1.5.3 \
+  "sha512-1qcOJeREIosJxIBof2nefabU9+Y3wCxXBb3ElQmNVOHP+Hu2BLWAh8CpU7xFnJNDMVBt2H5UOE2S/B7MEqhTsg==" "$ROS2_NESTED"
+fetch_and_unpack eventemitter3 4.0.7 \
+  "sha512-8guHBZCwKnFhYdHr2ysuRWErTwhoN2X8XELRlrRwpmfeY2jjuUN4taQMsULKUVo1K4DvZl+0pgfyoysHxvmvEw==" "$ROS2_NESTED"
 echo "fetch-ros2-test-peers: done ($MODULES)"

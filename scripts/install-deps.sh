@@ -30,6 +30,9 @@ PACKAGES=(
   librcpputils-dev librcutils-dev python3-rosbag
   python3-rospy python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-std-srvs python3-std-msgs
   python3-visualization-msgs python3-tf2-msgs  # the node tests publish, subscribe and call services
+  # ROS 2 (ros2/): the lrdslam_ros2 node and `lrdslam ros2-play` on Cyclone DDS, the DDS under
+  # rmw_cyclonedds_cpp; idlc (cyclonedds-tools) compiles the messages' IDL
+  cyclonedds-dev cyclonedds-tools
   # The HTML report (issue 24): its test opens a report in headless Chromium
   chromium fonts-dejavu-core
   # Real photographs used as textures by the synthetic benchmark (lrdslam synth)

@@ -12,7 +12,7 @@
 #include "lrd/io/frame_source.h"
 #include "lrd/system.h"
 
-namespace lrd_ros {
+namespace lrd::node {
 
 struct NodeSettings {
   std::string settings;                     // ~settings: ORB-SLAM2/3 settings file (the camera)
@@ -49,4 +49,4 @@ struct FrameTime {
 };
 void write_track_times(const std::filesystem::path& file, const std::vector<FrameTime>& frames);
 
-}  // namespace lrd_ros
+}  // namespace lrd::node

@@ -8,7 +8,7 @@
 #include <mutex>
 #include <optional>
 
-namespace lrd_ros {
+namespace lrd::node {
 
 template <typename Frame>
 class FrameQueue {
@@ -63,4 +63,4 @@ class FrameQueue {
   bool closed_ = false;
 };
 
-}  // namespace lrd_ros
+}  // namespace lrd::node

@@ -1,11 +1,11 @@
-#include "node_config.h"
+#include "lrd/node/node_system.h"
 
 #include "lrd/config/config.h"
 #include "lrd/dynamic/dynamic_params.h"
 #include "lrd/runner/sequence_runner.h"
 #include "lrd/util/error.h"
 
-namespace lrd_ros {
+namespace lrd::node {
 
 namespace {
 
@@ -58,4 +58,4 @@ void write_track_times(const std::filesystem::path& file, const std::vector<Fram
   lrd::runner::write_track_times(file, log);
 }
 
-}  // namespace lrd_ros
+}  // namespace lrd::node
