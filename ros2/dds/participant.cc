@@ -107,6 +107,8 @@ Participant::Participant(const DomainSettings& d) : domain_id_(d.domain_id) {
     if (const char* user = std::getenv("CYCLONEDDS_URI"); user != nullptr && *user != '\0')
       config += std::string(",") + user;
     domain_ = dds_create_domain(d.domain_id, config.c_str());
+    // A second participant of this process in the domain shares the first's configuration.
+    if (domain_ == DDS_RETCODE_PRECONDITION_NOT_MET) domain_ = 0;
     check(domain_, fmt::format("domain {} (localhost only)", d.domain_id));
   }
   dds_qos_t* qos = dds_create_qos();

@@ -18,8 +18,8 @@
 
 namespace lrd_ros2 {
 
-// Which ROS 2 distribution the node talks to: message layouts differ between Humble and later
-// (rmw_dds_common's Gid, visualization_msgs' Marker).
+// Which ROS 2 distribution the node talks to: the ROS graph's message (rmw_dds_common's Gid)
+// is 24 bytes in Humble and 16 from Iron on, under one type name.
 enum class Distro { Humble, Jazzy };
 [[nodiscard]] Distro parse_distro(const std::string& name);  // throws lrd::Error naming the choices
 

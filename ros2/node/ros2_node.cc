@@ -60,7 +60,7 @@ Ros2Node::Ros2Node(const RosArgs& args, std::function<void()> on_fatal) {
 
   participant_ = std::make_unique<Participant>(domain_from_environment());
   graph_ = std::make_unique<Graph>(*participant_, distro_, id_.ns, id_.name);
-  publisher_ = std::make_shared<Ros2Publisher>(*participant_, *graph_, distro_, id_.fqn(), params_.publish);
+  publisher_ = std::make_shared<Ros2Publisher>(*participant_, *graph_, id_.fqn(), params_.publish);
   lrd::node::NodeLog log{[this](const std::string& m) { info(m); }, [this](const std::string& m) { warn(m); },
                          [this](const std::string& m) { log_line("FATAL", id_.name, m); }};
   driver_ = std::make_unique<lrd::node::SlamDriver>(params_, publisher_, std::move(log), std::move(on_fatal));
@@ -166,6 +166,7 @@ void Ros2Node::on_pair(lrd::node::FramePairer<Incoming>::Pair pair) {
                                      params_.depth_topic, f.depth.cols, f.depth.rows));
   f.timestamp = pair.colour.stamp;
   f.frame_id = std::move(pair.colour.image.frame_id);
+  f.arrival = std::chrono::steady_clock::now();
   driver_->push(std::move(f));
 }
 

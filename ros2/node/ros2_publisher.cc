@@ -10,8 +10,6 @@ namespace lrd_ros2 {
 
 namespace {
 
-constexpr const char* kMarkerArrayType = "visualization_msgs::msg::dds_::MarkerArray_";
-
 double now_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
@@ -23,14 +21,12 @@ void set_sequence(T& seq, void* buffer, std::size_t n) {
   seq._release = false;
 }
 
-// A LINE_LIST marker of the keyframes' frustums; Humble's Marker and Iron's (which adds texture,
-// UV coordinates and a mesh file, all empty here) share every field set.
-template <typename Marker>
-Marker keyframe_marker(const std::string& frame, double now,
-                       std::vector<geometry_msgs_msg_dds__Point_>& points) {
-  Marker m{};
-  m.header = header(now, frame);
+// The keyframes' frustums as one LINE_LIST marker.
+visualization_msgs_msg_dds__Marker_ keyframe_marker(const std::string& frame, double now,
+                                                    std::vector<geometry_msgs_msg_dds__Point_>& points) {
   static const std::string ns = "keyframes", empty;
+  visualization_msgs_msg_dds__Marker_ m{};
+  m.header = header(now, frame);
   m.ns = text(ns);
   m.type = 5;    // LINE_LIST
   m.action = 0;  // ADD
@@ -39,17 +35,17 @@ Marker keyframe_marker(const std::string& frame, double now,
   m.color.b = 1.0f;
   m.color.a = 1.0f;
   set_sequence(m.points, points.data(), points.size());
-  m.text = text(empty);
-  m.mesh_resource = text(empty);
+  for (char** s : {&m.texture_resource, &m.texture.header.frame_id, &m.texture.format, &m.text,
+                   &m.mesh_resource, &m.mesh_file.filename})
+    *s = text(empty);
   return m;
 }
 
 }  // namespace
 
-Ros2Publisher::Ros2Publisher(Participant& p, Graph& graph, Distro distro, const std::string& prefix,
+Ros2Publisher::Ros2Publisher(Participant& p, Graph& graph, const std::string& prefix,
                              lrd::node::PublishSettings settings)
     : TopicPublisher(std::move(settings)),
-      distro_(distro),
       pose_(p, dds_topic_name(prefix + "/pose"), &geometry_msgs_msg_dds__PoseStamped__desc, latched_qos(10)),
       tf_(p, dds_topic_name("/tf"), &tf2_msgs_msg_dds__TFMessage__desc, default_qos(100)),
       tf_static_(p, dds_topic_name("/tf_static"), &tf2_msgs_msg_dds__TFMessage__desc, latched_qos(1)),
@@ -58,21 +54,16 @@ Ros2Publisher::Ros2Publisher(Participant& p, Graph& graph, Distro distro, const 
                   latched_qos(1)),
       dense_map_(p, dds_topic_name(prefix + "/dense_map"), &sensor_msgs_msg_dds__PointCloud2__desc,
                  latched_qos(1)),
+      keyframes_(p, dds_topic_name(prefix + "/keyframes"), &visualization_msgs_msg_dds__MarkerArray__desc,
+                 latched_qos(1)),
       occupancy_(p, dds_topic_name(prefix + "/occupancy"), &nav_msgs_msg_dds__OccupancyGrid__desc,
                  latched_qos(1)),
       mask_(p, dds_topic_name(prefix + "/dynamic_mask"), &sensor_msgs_msg_dds__Image__desc, default_qos(2)),
       overlay_(p, dds_topic_name(prefix + "/overlay"), &sensor_msgs_msg_dds__Image__desc, default_qos(2)),
       state_(p, dds_topic_name(prefix + "/state"), &std_msgs_msg_dds__String__desc, latched_qos(1)) {
-  const std::string keyframes = dds_topic_name(prefix + "/keyframes");
-  if (distro_ == Distro::Humble)
-    keyframes_ = std::make_unique<Writer<visualization_msgs_msg_dds__MarkerArray_>>(
-        p, keyframes, &visualization_msgs_msg_dds__MarkerArray__desc, latched_qos(1));
-  else
-    keyframes_ = std::make_unique<Writer<visualization_msgs_msg_jazzy__MarkerArray_>>(
-        p, keyframes, &visualization_msgs_msg_jazzy__MarkerArray__desc, latched_qos(1), "", kMarkerArrayType);
   for (const WriterBase* w :
        std::initializer_list<const WriterBase*>{&pose_, &tf_, &tf_static_, &path_, &map_points_, &dense_map_,
-                                                keyframes_.get(), &occupancy_, &mask_, &overlay_, &state_})
+                                                &keyframes_, &occupancy_, &mask_, &overlay_, &state_})
     graph.add_writer(w->handle());
   start();
 }
@@ -151,22 +142,10 @@ void Ros2Publisher::send_keyframes(const lrd::events::MapSnapshot& map, double n
   std::vector<geometry_msgs_msg_dds__Point_> points;
   for (const lrd::events::KeyframePose& k : map.keyframes)
     for (const Eigen::Vector3d& v : lrd::node::frustum_lines(k.T_wc)) points.push_back({v.x(), v.y(), v.z()});
-  if (distro_ == Distro::Humble) {
-    auto marker = keyframe_marker<visualization_msgs_msg_dds__Marker_>(settings().map_frame, now, points);
-    visualization_msgs_msg_dds__MarkerArray_ array{};
-    set_sequence(array.markers, &marker, 1);
-    static_cast<Writer<visualization_msgs_msg_dds__MarkerArray_>&>(*keyframes_).write(array);
-  } else {
-    auto marker = keyframe_marker<visualization_msgs_msg_jazzy__Marker_>(settings().map_frame, now, points);
-    static const std::string empty;
-    marker.texture_resource = text(empty);
-    marker.texture.format = text(empty);
-    marker.texture.header.frame_id = text(empty);
-    marker.mesh_file.filename = text(empty);
-    visualization_msgs_msg_jazzy__MarkerArray_ array{};
-    set_sequence(array.markers, &marker, 1);
-    static_cast<Writer<visualization_msgs_msg_jazzy__MarkerArray_>&>(*keyframes_).write(array);
-  }
+  visualization_msgs_msg_dds__Marker_ marker = keyframe_marker(settings().map_frame, now, points);
+  visualization_msgs_msg_dds__MarkerArray_ array{};
+  set_sequence(array.markers, &marker, 1);
+  keyframes_.write(array);
 }
 
 void Ros2Publisher::send_map(const lrd::events::MapSnapshot& map) {

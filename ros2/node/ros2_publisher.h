@@ -19,13 +19,14 @@
 #include "sensor_msgs.h"
 #include "std_msgs.h"
 #include "tf2_msgs.h"
+#include "visualization_msgs.h"
 
 namespace lrd_ros2 {
 
 class Ros2Publisher final : public lrd::node::TopicPublisher {
  public:
   // node_prefix: the node's fully qualified name ("/lrdslam"), the topics' namespace.
-  Ros2Publisher(Participant& participant, Graph& graph, Distro distro, const std::string& node_prefix,
+  Ros2Publisher(Participant& participant, Graph& graph, const std::string& node_prefix,
                 lrd::node::PublishSettings settings);
   ~Ros2Publisher() override;
 
@@ -47,12 +48,11 @@ class Ros2Publisher final : public lrd::node::TopicPublisher {
   void send_keyframes(const lrd::events::MapSnapshot& map, double now);
   void send_cloud(Writer<sensor_msgs_msg_dds__PointCloud2_>& writer, const lrd::node::PackedCloud& cloud);
 
-  const Distro distro_;
   Writer<geometry_msgs_msg_dds__PoseStamped_> pose_;
   Writer<tf2_msgs_msg_dds__TFMessage_> tf_, tf_static_;
   Writer<nav_msgs_msg_dds__Path_> path_;
   Writer<sensor_msgs_msg_dds__PointCloud2_> map_points_, dense_map_;
-  std::unique_ptr<WriterBase> keyframes_;  // MarkerArray in the distro's layout
+  Writer<visualization_msgs_msg_dds__MarkerArray_> keyframes_;
   Writer<nav_msgs_msg_dds__OccupancyGrid_> occupancy_;
   Writer<sensor_msgs_msg_dds__Image_> mask_, overlay_;
   Writer<std_msgs_msg_dds__String_> state_;

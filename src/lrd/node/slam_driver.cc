@@ -119,6 +119,8 @@ void SlamDriver::track(NodeFrame& f) {
   last_timestamp_ = f.timestamp;
   TrackResult r = slam.track_rgbd(f.rgb, f.depth, f.timestamp);
   publisher_->publish_result(f.timestamp, r);
+  latencies_ms_.push_back(
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - f.arrival).count());
   r.dynamic.mask.release();
   times_.push_back({times_.size(), f.timestamp, r});
   std::lock_guard lock(counts_mutex_);
@@ -192,6 +194,20 @@ void SlamDriver::save_occupancy(const fs::path& dir) {
   }
 }
 
+namespace {
+
+// The latencies' median, 99th percentile and maximum (nearest rank), ms.
+nlohmann::json latency_stats(std::vector<double> ms) {
+  if (ms.empty()) return nullptr;
+  std::sort(ms.begin(), ms.end());
+  const auto rank = [&](double q) {
+    return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * ms.size()))];
+  };
+  return {{"frames", ms.size()}, {"median", rank(0.5)}, {"p99", rank(0.99)}, {"max", ms.back()}};
+}
+
+}  // namespace
+
 void SlamDriver::write_summary(const NodeCounts& counts, std::size_t loops) const {
   const nlohmann::json summary = {{"received", counts.received},
                                   {"malformed", counts.malformed},
@@ -200,7 +216,8 @@ void SlamDriver::write_summary(const NodeCounts& counts, std::size_t loops) cons
                                   {"tracked", counts.tracked},
                                   {"lost", counts.lost},
                                   {"not_initialized", counts.not_initialized},
-                                  {"loops", loops}};
+                                  {"loops", loops},
+                                  {"latency_ms", latency_stats(latencies_ms_)}};
   util::write_file_bytes(params_.output_dir / "node_summary.json", summary.dump(2) + "\n");
 }
 

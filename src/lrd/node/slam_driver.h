@@ -43,6 +43,8 @@ struct NodeFrame {
   cv::Mat rgb, depth;  // BGR, metres
   double timestamp = 0.0;
   std::string frame_id;
+  // When the pair was complete in the callback: the node's latency runs from here to the pose.
+  std::chrono::steady_clock::time_point arrival = std::chrono::steady_clock::now();
 };
 
 class SlamDriver {
@@ -101,7 +103,8 @@ class SlamDriver {
   NodeCounts counts_;
   // The last drop warning of each kind (counter), for the throttle.
   std::vector<std::pair<std::size_t NodeCounts::*, std::chrono::steady_clock::time_point>> last_warning_;
-  std::vector<FrameTime> times_;  // the tracking thread's, read after it stopped
+  std::vector<FrameTime> times_;      // the tracking thread's, read after it stopped
+  std::vector<double> latencies_ms_;  // arrival to published result, per tracked frame (likewise)
 
   FrameQueue<NodeFrame> frames_;
   bool stopped_ = false;
