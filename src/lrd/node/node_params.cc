@@ -18,6 +18,7 @@ NodeParams NodeParams::from(const ParamReader& r) {
   r.get("segmenter", p.system.segmenter);
   r.get("segmenter_model", p.system.segmenter_model);
   r.get("dense", p.system.dense);
+  r.get("yardstick", p.system.yardstick);
   r.get("map_frame", p.publish.map_frame);
   r.get("camera_frame", p.publish.camera_frame);
   r.get("world_frame", p.publish.world_frame);

@@ -39,6 +39,7 @@ NodeSystem make_system(const NodeSettings& settings,
   }
   lrd::SystemOptions options;
   options.max_queued_frame_events = settings.max_queued_frame_events;
+  options.yardstick = settings.yardstick;
   const lrd::SystemParams params = lrd::runner::configure_system(o, cfg);
   n.camera = cfg.camera;
   n.system = std::make_unique<lrd::System>(cfg, params, options);

@@ -21,6 +21,7 @@ struct NodeSettings {
   std::string segmenter;                    // ~segmenter: a runner::segmenter_preset name ("": the default)
   std::string segmenter_model;              // ~segmenter_model
   bool dense = false;                       // ~dense
+  bool yardstick = false;                   // ~yardstick: time Y beside each frame (benchmarks)
   std::size_t max_queued_frame_events = 4;  // a live node publishes the newest frames
 };
 

@@ -206,6 +206,16 @@ nlohmann::json latency_stats(std::vector<double> ms) {
   return {{"frames", ms.size()}, {"median", rank(0.5)}, {"p99", rank(0.99)}, {"max", ms.back()}};
 }
 
+// Y timed beside the frames (the yardstick parameter), median ms; null without it.
+nlohmann::json yardstick_median(const std::vector<FrameTime>& frames) {
+  std::vector<double> ms;
+  for (const FrameTime& f : frames)
+    if (f.result.timing.yardstick > 0.0) ms.push_back(1e3 * f.result.timing.yardstick);
+  if (ms.empty()) return nullptr;
+  std::sort(ms.begin(), ms.end());
+  return ms[ms.size() / 2];
+}
+
 }  // namespace
 
 void SlamDriver::write_summary(const NodeCounts& counts, std::size_t loops) const {
@@ -217,7 +227,8 @@ void SlamDriver::write_summary(const NodeCounts& counts, std::size_t loops) cons
                                   {"lost", counts.lost},
                                   {"not_initialized", counts.not_initialized},
                                   {"loops", loops},
-                                  {"latency_ms", latency_stats(latencies_ms_)}};
+                                  {"latency_ms", latency_stats(latencies_ms_)},
+                                  {"yardstick_ms", yardstick_median(times_)}};
   util::write_file_bytes(params_.output_dir / "node_summary.json", summary.dump(2) + "\n");
 }
 
