@@ -45,6 +45,11 @@ std::string localhost_config() {
          "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery></Domain></CycloneDDS>";
 }
 
+std::string receive_buffer_config() {
+  return "<CycloneDDS><Domain><Internal><SocketReceiveBufferSize min=\"default\" max=\"8MB\"/></Internal>"
+         "</Domain></CycloneDDS>";
+}
+
 Qos sensor_data_qos() {
   Qos q;
   q.reliable = false;
@@ -102,15 +107,14 @@ std::string resolve_name(const std::string& name, const std::string& node_namesp
 }
 
 Participant::Participant(const DomainSettings& d) : domain_id_(d.domain_id) {
-  if (d.localhost_only) {
-    std::string config = localhost_config();
-    if (const char* user = std::getenv("CYCLONEDDS_URI"); user != nullptr && *user != '\0')
-      config += std::string(",") + user;
-    domain_ = dds_create_domain(d.domain_id, config.c_str());
-    // A second participant of this process in the domain shares the first's configuration.
-    if (domain_ == DDS_RETCODE_PRECONDITION_NOT_MET) domain_ = 0;
-    check(domain_, fmt::format("domain {} (localhost only)", d.domain_id));
-  }
+  std::string config = receive_buffer_config();
+  if (d.localhost_only) config += fmt::format(",{}", localhost_config());
+  if (const char* user = std::getenv("CYCLONEDDS_URI"); user != nullptr && *user != '\0')
+    config += fmt::format(",{}", user);
+  domain_ = dds_create_domain(d.domain_id, config.c_str());
+  // A second participant of this process in the domain shares the first's configuration.
+  if (domain_ == DDS_RETCODE_PRECONDITION_NOT_MET) domain_ = 0;
+  check(domain_, fmt::format("domain {}{}", d.domain_id, d.localhost_only ? " (localhost only)" : ""));
   dds_qos_t* qos = dds_create_qos();
   const char enclave[] = "enclave=/;";
   dds_qset_userdata(qos, enclave, std::strlen(enclave));

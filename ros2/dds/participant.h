@@ -30,6 +30,11 @@ struct DomainSettings {
 // From the environment; throws lrd::Error for a ROS_DOMAIN_ID that is not 0..232.
 [[nodiscard]] DomainSettings domain_from_environment();
 
+// A socket receive buffer of up to 8 MB (as far as the system allows: net.core.rmem_max) instead
+// of the system's default (often 208 KiB): a colour and a depth image arrive together as 2 MB of
+// fragments, and a best-effort reader loses every sample one of whose fragments overflowed it.
+[[nodiscard]] std::string receive_buffer_config();
+
 // Cyclone's configuration for localhost-only discovery: loopback (treated as multicast-capable,
 // as Linux does not flag lo so) with SPDP by multicast and the well-known unicast ports of
 // participant indices 0..32 as peers, so both ROS 2 nodes run with ROS_LOCALHOST_ONLY=1 (unicast

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
-#include <regex>
+#include <algorithm>
+#include <cctype>
+#include <vector>
 
 #include "lrd/util/error.h"
 
@@ -74,23 +76,35 @@ void read_params_file(const std::string& file, std::vector<RosArgs::Param>& out)
   }
 }
 
+std::vector<std::string> name_tokens(const std::string& name) {
+  std::vector<std::string> tokens;
+  std::size_t from = 0;
+  while (from <= name.size()) {
+    const std::size_t at = std::min(name.find('/', from), name.size());
+    if (at > from) tokens.push_back(name.substr(from, at - from));
+    from = at + 1;
+  }
+  return tokens;
+}
+
+bool tokens_match(const std::vector<std::string>& key, std::size_t k, const std::vector<std::string>& fqn,
+                  std::size_t f) {
+  if (k == key.size()) return f == fqn.size();
+  if (key[k] == "**")  // any number of name tokens, none included
+    return tokens_match(key, k + 1, fqn, f) || (f < fqn.size() && tokens_match(key, k, fqn, f + 1));
+  return f < fqn.size() && (key[k] == "*" || key[k] == fqn[f]) && tokens_match(key, k + 1, fqn, f + 1);
+}
+
 // rcl's node-key wildcards: "/**" any number of name tokens, "/*" exactly one.
 bool key_matches(const std::string& key, const std::string& fqn) {
-  std::string pattern;
-  for (std::size_t i = 0; i < key.size(); ++i) {
-    if (key.compare(i, 3, "/**") == 0) {
-      pattern += "(/\\w+)*";
-      i += 2;
-    } else if (key.compare(i, 2, "/*") == 0) {
-      pattern += "(/\\w+)";
-      i += 1;
-    } else if (std::string("\\^$.|?+()[]{}").find(key[i]) != std::string::npos) {
-      pattern += std::string("\\") + key[i];
-    } else {
-      pattern += key[i];
-    }
-  }
-  return std::regex_match(fqn, std::regex(pattern));
+  return tokens_match(name_tokens(key), 0, name_tokens(fqn), 0);
+}
+
+// A node name as rcl accepts one: a letter or '_', then letters, digits and '_'.
+bool valid_node_name(const std::string& name) {
+  if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
+  return std::all_of(name.begin(), name.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; });
 }
 
 // One argument inside --ros-args; i advances past what it consumes.
@@ -143,7 +157,7 @@ RosArgs parse_ros_args(const std::vector<std::string>& argv) {
       args.other_args.push_back(argv[i]);
     }
   }
-  if (!args.node_name.empty() && !std::regex_match(args.node_name, std::regex("[A-Za-z_]\\w*")))
+  if (!args.node_name.empty() && !valid_node_name(args.node_name))
     throw lrd::Error(fmt::format("--ros-args -r __node:={}: not a valid node name", args.node_name));
   return args;
 }
