@@ -7,6 +7,7 @@ PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config git
   clang-format-14  # the format check (scripts/check-format.sh, a ctest test)
+  clang-14 libclang-rt-14-dev  # libFuzzer and its sanitizers: the fuzz preset (bench/fuzz/run.sh)
   graphviz         # docs/architecture: the picture from its text source
   # libraries
   libopencv-dev libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev zlib1g-dev
