@@ -16,22 +16,8 @@ const { ros2humble } = require("@foxglove/rosmsg-msgs-common");
 
 const TYPES = { image: "sensor_msgs/msg/Image", info: "sensor_msgs/msg/CameraInfo", tf: "tf2_msgs/msg/TFMessage" };
 
-// The official definition of a type and of every type its fields use, root first.
-function officialDefinitions(rosType) {
-  const short = rosType.replace("/msg/", "/");
-  const out = [];
-  const seen = new Set();
-  const visit = (name) => {
-    if (seen.has(name)) return;
-    seen.add(name);
-    const def = ros2humble[name];
-    if (!def) throw new Error(`no official definition of ${name}`);
-    out.push(def);
-    for (const field of def.definitions) if (field.isComplex) visit(field.type);
-  };
-  visit(short);
-  return out;
-}
+const definitionsIn = require("./definitions.cjs");
+const officialDefinitions = (rosType) => definitionsIn(ros2humble, rosType);
 
 // The same .msg text rosbag2 stores in a schema (the root's fields, then each used type).
 function msgText(rosType) {

@@ -115,22 +115,8 @@ function parseArgs(argv) {
   return opts;
 }
 
-// The official definition of a type and of every type its fields use, root first.
-function officialDefinitions(rosType) {
-  const short = rosType.replace("/msg/", "/");
-  const out = [];
-  const seen = new Set();
-  const visit = (name) => {
-    if (seen.has(name)) return;
-    seen.add(name);
-    const def = ros2humble[name];
-    if (!def) throw new Error(`no official definition of ${name}`);
-    out.push(def);
-    for (const field of def.definitions) if (field.isComplex) visit(field.type);
-  };
-  visit(short);
-  return out;
-}
+const definitionsIn = require("./definitions.cjs");
+const officialDefinitions = (rosType) => definitionsIn(ros2humble, rosType);
 
 const sha256 = (bytes) => crypto.createHash("sha256").update(bytes).digest("hex");
 const digest = (a) => ({ length: a.length, sha256: sha256(new Uint8Array(a.buffer, a.byteOffset, a.byteLength)) });

@@ -65,6 +65,13 @@ class Node:
     def wait_ready(self):
         wait_for_line(self.log, "node /lrdslam in domain", 30, self.p)
 
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self.p.poll() is None:
+            self.p.kill()
+
     def interrupt(self, timeout=120):
         self.p.send_signal(signal.SIGINT)
         return self.p.wait(timeout)
@@ -115,9 +122,8 @@ def run(sequence, tmp_path_factory):
     tmp = tmp_path_factory.mktemp("ros2run")
     domain = 61
     out = tmp / "out"
-    node = Node(domain, tmp / "node.log", "-p", "mode:=full", "-p", "dense:=true", "-p", f"output_dir:={out}",
-                "-p", "queue_size:=200")
-    try:
+    with Node(domain, tmp / "node.log", "-p", "mode:=full", "-p", "dense:=true", "-p", f"output_dir:={out}",
+              "-p", "queue_size:=200") as node:
         node.wait_ready()
         first = Listener(domain, tmp / "first.jsonl", "--discovery")
         play = subprocess.run([CLI_BIN, "ros2-play", "--sequence", sequence, "--rate", str(RATE), "--wait", "30"],
@@ -132,9 +138,6 @@ def run(sequence, tmp_path_factory):
         status = node.interrupt()
         time.sleep(1)  # the path republished at the save
         first_lines = first.stop()
-    finally:
-        if node.p.poll() is None:
-            node.p.kill()
     assert status == 0, node.output()
     summary = json.loads((out / "node_summary.json").read_text())
     return {"first": first_lines, "late": late_lines, "summary": summary, "out": out, "node": node.output(),
@@ -226,16 +229,12 @@ def test_the_node_is_in_the_ros_graph_with_its_endpoints(run):
 def test_malformed_input_is_dropped_counted_and_named(tmp_path):
     domain = 62
     out = tmp_path / "out"
-    node = Node(domain, tmp_path / "node.log", "-p", f"output_dir:={out}")
-    try:
+    with Node(domain, tmp_path / "node.log", "-p", f"output_dir:={out}") as node:
         node.wait_ready()
         r = subprocess.run([PUBLISHER_BIN], capture_output=True, text=True, env=env(domain), timeout=60)
         assert r.returncode == 0, r.stderr
         time.sleep(1)
         status = node.interrupt()
-    finally:
-        if node.p.poll() is None:
-            node.p.kill()
     log = node.output()
     assert status == 0, log
     s = json.loads((out / "node_summary.json").read_text())
@@ -250,14 +249,10 @@ def test_parameters_from_a_file_and_the_command_line(tmp_path):
     params = tmp_path / "params.yaml"
     params.write_text("/**:\n  ros__parameters:\n    rgb_topic: /cam/color\n    mode: static\n"
                       "lrdslam:\n  ros__parameters:\n    depth_topic: /cam/depth\n")
-    node = Node(63, tmp_path / "node.log", "--params-file", params, "-p", "rgb_topic:=/cam2/color",
-                "-p", f"output_dir:={tmp_path / 'out'}", "-p", "no_such:=1")
-    try:
+    with Node(63, tmp_path / "node.log", "--params-file", params, "-p", "rgb_topic:=/cam2/color",
+              "-p", f"output_dir:={tmp_path / 'out'}", "-p", "no_such:=1") as node:
         node.wait_ready()
         status = node.interrupt()
-    finally:
-        if node.p.poll() is None:
-            node.p.kill()
     log = node.output()
     assert status == 0, log
     assert "colour /cam2/color, depth /cam/depth" in log  # -p after the file wins
