@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <fstream>
 #include <initializer_list>
 #include <map>
 #include <opencv2/core/persistence.hpp>
@@ -38,11 +39,30 @@ Error parse_error(const std::filesystem::path& file, const cv::Exception& e) {
   return file_error(file, "cannot parse settings file: " + one_line(e.err));
 }
 
+// A settings file is a map of keys: each top-level line (not blank, not a comment, not indented
+// under a key) is "KEY: ..." or a YAML directive or document marker. Checked before OpenCV parses
+// the file, because OpenCV 4.6's parser never returns on some other top levels (a sequence item
+// followed by a plain line, found by fuzzing).
+void check_top_level(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#' || line[0] == ' ' || line[0] == '\t' || line[0] == '%') continue;
+    if (line.rfind("---", 0) == 0 && line.find_first_not_of('-') == std::string::npos) continue;
+    if (line == "...") continue;
+    const std::size_t colon = line.find(':');
+    if (line[0] == '-' || colon == std::string::npos || colon == 0)
+      throw line_error(file, n, "not a settings file: expected KEY: VALUE at the top level");
+  }
+}
+
 class SettingsFile {
  public:
   explicit SettingsFile(std::filesystem::path file) : file_(std::move(file)) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file_, ec)) throw file_error(file_, "settings file not found");
+    check_top_level(file_);
     try {
       // FORMAT_YAML: parse as YAML whatever the extension is.
       fs_.open(file_.string(), cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
