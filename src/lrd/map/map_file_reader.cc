@@ -103,7 +103,16 @@ data::Frame::SavedFeatures read_features(util::ByteReader& in, std::vector<std::
     f.u_right.push_back(in.f32("keypoint"));
     std::memcpy(f.descriptors.ptr(static_cast<int>(i)), in.take(32, "descriptor").data(), 32);
     slots.push_back(in.u64("keypoint"));
+    const cv::Point2f &a = f.keypoints.back().pt, &b = f.undistorted.back().pt;
+    if (!std::isfinite(a.x) || !std::isfinite(a.y) || !std::isfinite(b.x) || !std::isfinite(b.y) ||
+        !std::isfinite(f.depth.back()) || !std::isfinite(f.u_right.back()))
+      throw file_error(in.file(), "corrupt keypoint: position or depth not finite");
+    if (kp.octave < 0 || static_cast<std::size_t>(kp.octave) >= f.scale_factors.size())
+      throw file_error(in.file(), "corrupt keypoint: pyramid level out of range");
   }
+  if (!(f.bounds.width > 0.0f && f.bounds.height > 0.0f) || !std::isfinite(f.bounds.x) ||
+      !std::isfinite(f.bounds.y) || !std::isfinite(f.bounds.width) || !std::isfinite(f.bounds.height))
+    throw file_error(in.file(), "corrupt keyframe: image bounds");
   return f;
 }
 
