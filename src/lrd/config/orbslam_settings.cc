@@ -42,12 +42,15 @@ Error parse_error(const std::filesystem::path& file, const cv::Exception& e) {
 // A settings file is a map of keys: each top-level line (not blank, not a comment, not indented
 // under a key) is "KEY: ..." or a YAML directive or document marker. Checked before OpenCV parses
 // the file, because OpenCV 4.6's parser never returns on some other top levels (a sequence item
-// followed by a plain line, found by fuzzing).
+// followed by a plain line; a NUL byte, after which it parses the rest of the line as a new one:
+// both found by fuzzing).
 void check_top_level(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::string line;
   for (std::size_t n = 1; std::getline(in, line); ++n) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    // OpenCV reads lines as C strings: text after a NUL is parsed as if a line began there.
+    if (line.find('\0') != std::string::npos) throw line_error(file, n, "not a settings file: a NUL byte");
     if (line.empty() || line[0] == '#' || line[0] == ' ' || line[0] == '\t' || line[0] == '%') continue;
     if (line.rfind("---", 0) == 0 && line.find_first_not_of('-') == std::string::npos) continue;
     if (line == "...") continue;
