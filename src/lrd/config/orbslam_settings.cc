@@ -74,7 +74,8 @@ class SettingsFile {
     }
     if (!fs_.isOpened()) throw file_error(file_, "cannot open settings file");
     // OpenCV asserts (an exception of its own) when a key is looked up in anything but a map.
-    if (!fs_.root().isMap()) throw file_error(file_, "not a settings file: its top level is not a map of keys");
+    if (!fs_.root().isMap())
+      throw file_error(file_, "not a settings file: its top level is not a map of keys");
   }
 
   [[nodiscard]] std::optional<double> number(const std::string& key) const {

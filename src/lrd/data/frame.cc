@@ -180,7 +180,8 @@ void Frame::build_grid() {
 bool Frame::grid_cell(const cv::Point2f& p, int& col, int& row) const {
   // Compared as floats before the conversion: a point far outside (or NaN, as a corrupt map file
   // may hold) has no int value.
-  const float c = std::floor((p.x - bounds_.x) * cell_w_inv_), r = std::floor((p.y - bounds_.y) * cell_h_inv_);
+  const float c = std::floor((p.x - bounds_.x) * cell_w_inv_),
+              r = std::floor((p.y - bounds_.y) * cell_h_inv_);
   if (!(c >= 0.0f && c < static_cast<float>(kGridCols) && r >= 0.0f && r < static_cast<float>(kGridRows))) {
     col = row = -1;
     return false;

@@ -52,8 +52,20 @@ Sqlite3Reader::Sqlite3Reader(const fs::path& file) : file_(file) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw file_error(file, "sqlite3 bag file not found");
   check_not_truncated(file);
-  if (sqlite3_open_v2(file.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK)
-    throw file_error(file, fmt::format("cannot open the sqlite3 bag: {}", sqlite3_errmsg(db_)));
+  // The destructor does not run for a constructor that throws: the connection is closed here
+  // (sqlite3_open_v2 returns one even when it fails).
+  try {
+    if (sqlite3_open_v2(file.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK)
+      throw file_error(file, fmt::format("cannot open the sqlite3 bag: {}", sqlite3_errmsg(db_)));
+    read_topics();
+  } catch (...) {
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw;
+  }
+}
+
+void Sqlite3Reader::read_topics() {
   const Statement topics = prepare(db_, file_, "SELECT id, name, type FROM topics");
   int rc;
   while ((rc = sqlite3_step(topics.get())) == SQLITE_ROW) {

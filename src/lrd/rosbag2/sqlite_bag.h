@@ -30,6 +30,7 @@ class Sqlite3Reader final : public BagStorage {
   [[nodiscard]] std::vector<std::uint8_t> read(const MessageRef& ref) const override;
 
  private:
+  void read_topics();  // the topics table into topic_types_ and topic_ids_
   std::filesystem::path file_;
   sqlite3* db_ = nullptr;
   std::map<std::string, std::string> topic_types_;
