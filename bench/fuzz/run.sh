@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes lrd-slam's readers of outside data with libFuzzer (clang-14 from Debian, with ASan and
 # UBSan): builds the fuzz preset, makes the seeds (fuzz_make_seeds: the project's own writers; a
-# map file from a short `lrdslam run --save-map`), then runs each harness for N seconds on one core
-# each, two at a time, with its dictionary (bench/fuzz/dict/HARNESS.dict) where it has one. The
+# map file from a short `lrdslam run --save-map`), then runs each harness for N seconds, one a
+# core, with its dictionary (bench/fuzz/dict/HARNESS.dict) where it has one. The
 # corpus grows in out/fuzz/corpus/HARNESS; a crash leaves out/fuzz/crash/HARNESS/crash-* (make it a
 # regression input in tests/fuzz/corpus/HARNESS/ once fixed). Prints per harness the executions,
 # coverage features and crashes (the figures of bench/results/fuzz.md).
@@ -47,13 +47,11 @@ run_one() {
     -max_len=1048576 -rss_limit_mb=2048 -timeout=20 -print_final_stats=1 -artifact_prefix="$OUT/crash/$h/" \
     >"$OUT/log/$h.log" 2>&1 || true
 }
+export -f run_one
+export OUT SECONDS_EACH
 
-# Two at a time (one per core).
-for ((i = 0; i < ${#HARNESSES[@]}; i += 2)); do
-  run_one "${HARNESSES[$i]}" &
-  [ $((i + 1)) -lt ${#HARNESSES[@]} ] && run_one "${HARNESSES[$((i + 1))]}" &
-  wait
-done
+# One harness a core; the next starts when one ends (a crash ends a harness early).
+printf '%s\n' "${HARNESSES[@]}" | xargs -P "$(nproc)" -I{} bash -c 'run_one {}'
 
 printf '%-18s %12s %10s %8s %8s\n' harness executions features corpus crashes
 for h in "${HARNESSES[@]}"; do
