@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "lrd/util/binary_io.h"
+#include "lrd/util/yardstick.h"
 
 namespace lrd::node {
 
@@ -212,8 +213,7 @@ nlohmann::json yardstick_median(const std::vector<FrameTime>& frames) {
   for (const FrameTime& f : frames)
     if (f.result.timing.yardstick > 0.0) ms.push_back(1e3 * f.result.timing.yardstick);
   if (ms.empty()) return nullptr;
-  std::sort(ms.begin(), ms.end());
-  return ms[ms.size() / 2];
+  return util::median_of(std::move(ms));
 }
 
 }  // namespace
