@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -15,6 +14,7 @@
 #include "lrd/eval/plot.h"
 #include "lrd/eval/rpe.h"
 #include "lrd/io/trajectory.h"
+#include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
 
 namespace lrd::app {
@@ -83,10 +83,7 @@ void write_json(const std::string& file, const nlohmann::json& j) {
     std::fputs((j.dump(2) + "\n").c_str(), stdout);
     return;
   }
-  std::ofstream out(file);
-  out << j.dump(2) << '\n';
-  out.close();
-  if (!out) throw file_error(file, "cannot write JSON");
+  util::write_file_bytes(file, j.dump(2) + '\n');
 }
 
 std::string rpe_unit(double delta, const char* unit) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "lrd/io/image_file.h"
 #include "lrd/segmentation/onnx_presets.h"
 #include "lrd/segmentation/onnx_segmenter.h"
 #include "lrd/util/error.h"
@@ -41,13 +42,7 @@ cv::Mat overlay(const cv::Mat& bgr, const cv::Mat& labels, const cv::Mat& mask) 
 }
 
 void write_png(const fs::path& file, const cv::Mat& img) {
-  bool ok = false;
-  try {
-    ok = cv::imwrite(file.string(), img);
-  } catch (const cv::Exception& e) {
-    throw file_error(file, "cannot write: " + e.err);
-  }
-  if (!ok) throw file_error(file, "cannot write");
+  io::write_image_file(file, img);
 }
 
 void segment_images(const SegmentCli& cli) {

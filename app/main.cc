@@ -4,9 +4,11 @@
 #include <cstdio>
 #include <exception>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "app/commands.h"
 #include "lrd/util/error.h"
+#include "lrd/util/exception_message.h"
 #include "lrd_git_commit.h"
 
 int main(int argc, char** argv) {
@@ -28,6 +30,10 @@ int main(int argc, char** argv) {
   lrd::app::register_ros2_play_command(app);
 
   try {
+    // OpenCV registers its image codecs on first use, GDAL's among them, and GDAL aborts the
+    // process when it finds no memory for that: done here, before any thread or frame, a memory
+    // limit (ulimit -v) is met later, where it is an error of one line.
+    (void)cv::haveImageWriter(".png");
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
@@ -37,11 +43,9 @@ int main(int argc, char** argv) {
   } catch (const lrd::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
-  } catch (const cv::Exception& e) {
-    std::fprintf(stderr, "error: OpenCV: %s\n", e.err.c_str());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+  } catch (...) {
+    // Anything else (std::bad_alloc under a memory limit, OpenCV's errors) as one line too.
+    std::fprintf(stderr, "error: %s\n", lrd::util::exception_message(std::current_exception()).c_str());
     return 1;
   }
   return 0;

@@ -1,9 +1,12 @@
 #include "lrd/pipeline.h"
 
+#include <fmt/format.h>
+
 #include <mutex>
 
 #include "lrd/map/keyframe.h"
 #include "lrd/util/error.h"
+#include "lrd/util/exception_message.h"
 
 namespace lrd {
 
@@ -13,10 +16,8 @@ template <class Work>
 void run_stage(const char* stage, Work&& work) {
   try {
     work();
-  } catch (const std::exception& e) {
-    throw Error(std::string(stage) + " thread: " + e.what());
   } catch (...) {
-    throw Error(std::string(stage) + " thread: unknown error");
+    throw Error(fmt::format("{} thread: {}", stage, util::exception_message(std::current_exception())));
   }
 }
 }  // namespace

@@ -173,7 +173,7 @@ TEST(TrajectoryIo, KittiWriterFormat) {
 TEST(TrajectoryIo, UnwritableFileNamesFile) {
   const fs::path file = temp_file("no_such_dir") / "x.txt";
   EXPECT_EQ(error_message([&] { lrd::io::write_trajectory_tum(file, {}); }),
-            file.string() + ": cannot open for writing");
+            file.string() + ": cannot open for writing (No such file or directory)");
 }
 
 // A 100 Hz motion-capture trajectory on its own clock, read at an image's stamp between two samples.

@@ -1,6 +1,7 @@
 #include "lrd/dense/ply_io.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstring>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "lrd/util/atomic_file.h"
 #include "lrd/util/error.h"
 
 namespace lrd::dense {
@@ -16,30 +18,28 @@ namespace lrd::dense {
 namespace fs = std::filesystem;
 
 void write_ply(const fs::path& file, const PointCloud& cloud) {
-  std::ofstream out(file, std::ios::binary);
-  if (!out) throw file_error(file, "cannot write");
+  util::AtomicFile file_out(file);
+  std::ostream& out = file_out.stream();
   const bool coloured = cloud.colours.size() == cloud.points.size();
   out << "ply\nformat binary_little_endian 1.0\ncomment written by lrd-slam\nelement vertex " << cloud.size()
       << "\nproperty float x\nproperty float y\nproperty float z\n";
   if (coloured) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   out << "end_header\n";
-  // The floats go out as they are in memory.
+  // The floats go out as they are in memory, point by point through the stream's buffer (a dense
+  // map is not copied whole).
   static_assert(std::endian::native == std::endian::little, "write_ply assumes a little-endian machine");
-  std::vector<char> buf;
-  buf.reserve(cloud.size() * 15);
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const char* p = reinterpret_cast<const char*>(cloud.points[i].data());
-    buf.insert(buf.end(), p, p + 12);
+    std::array<char, 15> row{};
+    std::memcpy(row.data(), cloud.points[i].data(), 12);
     if (coloured) {
       const cv::Vec3b& c = cloud.colours[i];
-      buf.push_back(static_cast<char>(c[2]));
-      buf.push_back(static_cast<char>(c[1]));
-      buf.push_back(static_cast<char>(c[0]));
+      row[12] = static_cast<char>(c[2]);
+      row[13] = static_cast<char>(c[1]);
+      row[14] = static_cast<char>(c[0]);
     }
+    out.write(row.data(), coloured ? 15 : 12);
   }
-  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
-  out.close();
-  if (!out) throw file_error(file, "write failed (disk full?)");
+  file_out.commit();
 }
 
 namespace {

@@ -1,5 +1,6 @@
 #include "lrd/dynamic/dynamic_front_end.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "lrd/segmentation/onnx_segmenter.h"
 #include "lrd/segmentation/segmentation_worker.h"
 #include "lrd/util/error.h"
+#include "lrd/util/exception_message.h"
 
 namespace lrd::dynamic {
 
@@ -80,8 +82,8 @@ SemanticMask DynamicFrontEnd::mask(std::uint64_t id, const cv::Mat& depth,
     result = worker_->wait(
         id, sync ? std::nullopt
                  : std::optional<double>(network_sees(id) ? segmentation_.max_wait_ms / 1000.0 : 0.0));
-  } catch (const std::exception& e) {
-    throw Error(std::string("segmentation thread: ") + e.what());
+  } catch (...) {
+    throw Error(fmt::format("segmentation thread: {}", util::exception_message(std::current_exception())));
   }
   if (!result) return out;
   had_mask_ = true;

@@ -6,12 +6,12 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
 #include "lrd/eval/statistics.h"
+#include "lrd/io/image_file.h"
 #include "lrd/util/error.h"
 
 namespace lrd::eval {
@@ -143,13 +143,7 @@ class Axes {
 };
 
 void save(const std::filesystem::path& file, const cv::Mat& image) {
-  bool ok = false;
-  try {
-    ok = cv::imwrite(file.string(), image);
-  } catch (const cv::Exception& e) {
-    throw file_error(file, "cannot write plot: " + e.err);
-  }
-  if (!ok) throw file_error(file, "cannot write plot");
+  io::write_image_file(file, image);
 }
 
 // Polyline broken where the stamps jump by 2x the median period, like plot_traj() in evaluate_ate.py.

@@ -1,16 +1,20 @@
 #include "lrd/io/image_file.h"
 
+#include <fmt/format.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <new>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
+#include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
 
 namespace lrd::io {
@@ -77,15 +81,37 @@ cv::Mat read_image_file(const std::filesystem::path& file, int flags) {
   cv::Mat img;
   try {
     img = cv::imdecode(bytes, flags);
-  } catch (const cv::Exception&) {
+  } catch (const cv::Exception& e) {
+    if (e.code == cv::Error::StsNoMem) throw std::bad_alloc();
     throw file_error(file, "cannot decode image (corrupt or unsupported file)");
   }
-  if (img.empty()) throw file_error(file, "cannot decode image (corrupt or unsupported file)");
+  if (img.empty()) {
+    // The decoders report running out of memory as a failed decode: when not even the image's
+    // worth of memory can be had (cv::Mat then throws OpenCV's out-of-memory error), that was the
+    // cause, not the file.
+    const std::size_t probe = std::clamp<std::size_t>(bytes.size() * 4, std::size_t{4} << 20, 1u << 30);
+    const cv::Mat room(1, static_cast<int>(probe), CV_8UC1);
+    throw file_error(file, "cannot decode image (corrupt or unsupported file)");
+  }
   if (img.cols > kMaxImageSide || img.rows > kMaxImageSide)
     throw file_error(file, "image is " + std::to_string(img.cols) + "x" + std::to_string(img.rows) +
                                ", larger than " + std::to_string(kMaxImageSide) +
                                " on a side: not a camera frame");
   return img;
+}
+
+void write_image_file(const std::filesystem::path& file, const cv::Mat& image, const std::vector<int>& params,
+                      util::Sync sync) {
+  std::vector<unsigned char> bytes;
+  bool ok = false;
+  try {
+    ok = cv::imencode(file.extension().string(), image, bytes, params);
+  } catch (const cv::Exception& e) {
+    throw file_error(file, fmt::format("cannot encode the image: {}", e.err));
+  }
+  if (!ok) throw file_error(file, "cannot encode the image");
+  util::write_file_bytes(file, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                         sync);
 }
 
 }  // namespace lrd::io

@@ -6,14 +6,13 @@
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <limits>
-#include <memory>
 #include <sstream>
 #include <string>
 #include <string_view>
 
+#include "lrd/util/atomic_file.h"
 #include "lrd/util/error.h"
 
 namespace lrd::io {
@@ -69,22 +68,6 @@ struct ParsedLine {
   StampedPose pose;
   std::size_t line = 0;
 };
-
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
-
-FilePtr open_for_writing(const std::filesystem::path& file) {
-  FilePtr out(std::fopen(file.c_str(), "w"));
-  if (!out) throw file_error(file, "cannot open for writing");
-  return out;
-}
-
-void finish_writing(const std::filesystem::path& file, FilePtr out) {
-  const bool write_failed = std::ferror(out.get()) != 0;
-  if (std::fclose(out.release()) != 0 || write_failed) throw file_error(file, "write failed");
-}
 
 }  // namespace
 
@@ -146,21 +129,22 @@ Trajectory read_trajectory_tum(const std::filesystem::path& file) {
 }
 
 void write_trajectory_tum(const std::filesystem::path& file, const Trajectory& trajectory) {
-  FilePtr out = open_for_writing(file);
-  std::fputs("# timestamp tx ty tz qx qy qz qw\n", out.get());
+  util::AtomicFile file_out(file);
+  std::ostream& out = file_out.stream();
+  out << "# timestamp tx ty tz qx qy qz qw\n";
   for (const StampedPose& p : trajectory) {
     Eigen::Quaterniond q(p.pose.linear());
     q.normalize();
     if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // same rotation; keep qw >= 0 for readability
     const Eigen::Vector3d t = p.pose.translation();
-    fmt::print(out.get(), "{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n", p.timestamp, t.x(),
-               t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+    out << fmt::format("{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n", p.timestamp, t.x(), t.y(),
+                       t.z(), q.x(), q.y(), q.z(), q.w());
   }
-  finish_writing(file, std::move(out));
+  file_out.commit();
 }
 
 void write_trajectory_kitti(const std::filesystem::path& file, const Trajectory& trajectory) {
-  FilePtr out = open_for_writing(file);
+  util::AtomicFile out(file);
   for (const StampedPose& p : trajectory) {
     const Eigen::Matrix<double, 3, 4> m = p.pose.matrix().topRows<3>();
     std::string line;
@@ -171,9 +155,9 @@ void write_trajectory_kitti(const std::filesystem::path& file, const Trajectory&
       }
     }
     line += '\n';
-    std::fputs(line.c_str(), out.get());
+    out.write(line);
   }
-  finish_writing(file, std::move(out));
+  out.commit();
 }
 
 std::optional<Eigen::Isometry3d> pose_at(const Trajectory& trajectory, double t, double max_gap) {

@@ -1,7 +1,6 @@
 #include "lrd/occupancy/grid_2d.h"
 
 #include <fmt/format.h>
-#include <fmt/os.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -9,6 +8,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "lrd/io/image_file.h"
+#include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
 
 namespace lrd::occupancy {
@@ -84,25 +85,20 @@ void write_map_server(const Grid2d& grid, const fs::path& out, const std::string
   const fs::path pgm = out / (stem + ".pgm");
   const fs::path yaml = out / (stem + ".yaml");
   const cv::Mat img = grid.cells.empty() ? cv::Mat(1, 1, CV_8UC1, cv::Scalar(205)) : grey_image(grid);
-  if (!cv::imwrite(pgm.string(), img)) throw file_error(pgm, "cannot write");
-  try {
-    auto f = fmt::output_file(yaml.string());
-    f.print("image: {}\nresolution: {:.6f}\norigin: [{:.6f}, {:.6f}, 0.0]\nnegate: 0\n",
-            pgm.filename().string(), grid.resolution, grid.origin.x(), grid.origin.y());
-    f.print("occupied_thresh: {}\nfree_thresh: {}\n", t.occupied, t.free);
-    const Eigen::Matrix3d& R = grid.floor.rotation;
-    f.print(
-        "# lrd-slam: the grid lies on the floor; floor frame = rotation x (SLAM map frame) - "
-        "[0, 0, floor_height]\n");
-    f.print(
-        "lrd_floor_frame:\n  rotation: [{:.9f}, {:.9f}, {:.9f}, {:.9f}, {:.9f}, {:.9f}, {:.9f}, {:.9f}, "
-        "{:.9f}]\n",
-        R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2));
-    f.print("  floor_height: {:.6f}\n  min_height: {}\n  max_height: {}\n", grid.floor.height,
-            grid.min_height, grid.max_height);
-  } catch (const std::exception& e) {
-    throw file_error(yaml, std::string("cannot write: ") + e.what());
-  }
+  io::write_image_file(pgm, img);
+  std::string y = fmt::format("image: {}\nresolution: {:.6f}\norigin: [{:.6f}, {:.6f}, 0.0]\nnegate: 0\n",
+                              pgm.filename().string(), grid.resolution, grid.origin.x(), grid.origin.y());
+  y += fmt::format("occupied_thresh: {}\nfree_thresh: {}\n", t.occupied, t.free);
+  const Eigen::Matrix3d& R = grid.floor.rotation;
+  y += "# lrd-slam: the grid lies on the floor; floor frame = rotation x (SLAM map frame) - "
+       "[0, 0, floor_height]\n";
+  y += fmt::format(
+      "lrd_floor_frame:\n  rotation: [{:.9f}, {:.9f}, {:.9f}, {:.9f}, {:.9f}, {:.9f}, {:.9f}, {:.9f}, "
+      "{:.9f}]\n",
+      R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2));
+  y += fmt::format("  floor_height: {:.6f}\n  min_height: {}\n  max_height: {}\n", grid.floor.height,
+                   grid.min_height, grid.max_height);
+  util::write_file_bytes(yaml, y);
 }
 
 Grid2d read_map_server(const fs::path& yaml) {
@@ -161,7 +157,7 @@ void write_grid_picture(const Grid2d& grid, const std::vector<Eigen::Vector3d>& 
                         const fs::path& file) {
   if (grid.cells.empty()) {
     const cv::Mat empty(100, 100, CV_8UC3, cv::Scalar(205, 205, 205));
-    if (!cv::imwrite(file.string(), empty)) throw file_error(file, "cannot write");
+    io::write_image_file(file, empty);
     return;
   }
   const int scale = std::max(1, 800 / std::max(grid.width, grid.height));
@@ -182,7 +178,7 @@ void write_grid_picture(const Grid2d& grid, const std::vector<Eigen::Vector3d>& 
     cv::circle(img, path.front(), 6, cv::Scalar(0, 160, 0), cv::FILLED, cv::LINE_AA);
     cv::circle(img, path.back(), 6, cv::Scalar(0, 0, 220), cv::FILLED, cv::LINE_AA);
   }
-  if (!cv::imwrite(file.string(), img)) throw file_error(file, "cannot write");
+  io::write_image_file(file, img);
 }
 
 }  // namespace lrd::occupancy

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "lrd/util/atomic_file.h"
 #include "lrd/util/error.h"
 
 namespace lrd::occupancy {
@@ -213,17 +214,18 @@ std::size_t OccupancyMap::count(VoxelState state) const {
 }
 
 void OccupancyMap::write_binary(const std::filesystem::path& file) const {
-  std::ofstream out(file, std::ios::binary);
-  if (!out) throw file_error(file, "cannot write");
+  util::AtomicFile out(file);
   // The const writer: the tree is not pruned or thresholded in place. It reports "Writing N nodes
   // ... done." with fprintf on stderr; that goes to /dev/null meanwhile (after the run, or at the
   // node's stop: another thread's log line in these milliseconds would be lost too).
   bool ok = false;
   {
     const QuietStderr quiet;
-    ok = tree_->tree.writeBinaryConst(out) && out.flush();
+    ok = tree_->tree.writeBinaryConst(out.stream());
   }
-  if (!ok) throw file_error(file, "cannot write");
+  // A failed write of the stream is reported by commit() with its reason.
+  if (!ok && out.stream().good()) throw file_error(file, "cannot write");
+  out.commit();
 }
 
 OccupancyMap OccupancyMap::read_binary(const std::filesystem::path& file, const OccupancyParams& params) {

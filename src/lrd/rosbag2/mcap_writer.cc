@@ -13,25 +13,17 @@ namespace fs = std::filesystem;
 using namespace mcap;
 
 McapWriter::McapWriter(const fs::path& file, McapWriterOptions options)
-    : file_(file), partial_(fs::path(file) += ".partial"), options_(std::move(options)) {
-  out_.open(partial_, std::ios::binary | std::ios::trunc);
-  if (!out_) throw file_error(file_, "cannot open for writing");
+    : options_(std::move(options)), out_(file) {
   put({std::begin(kMagic), std::end(kMagic)});
   RecordBuilder header;
   header.string(options_.profile).string("lrd-slam");
   put(record(kHeader, header));
 }
 
-McapWriter::~McapWriter() {
-  if (!closed_) {
-    out_.close();
-    std::error_code ec;
-    fs::remove(partial_, ec);
-  }
-}
+McapWriter::~McapWriter() = default;
 
 void McapWriter::put(const std::vector<std::uint8_t>& bytes) {
-  out_.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out_.write({reinterpret_cast<const char*>(bytes.data()), bytes.size()});
   data_crc_ = crc32(bytes.data(), bytes.size(), data_crc_);
   offset_ += bytes.size();
 }
@@ -167,11 +159,7 @@ void McapWriter::close() {
   end.u32(data_crc_);
   put(record(kDataEnd, end));
   write_summary();
-  out_.close();
-  if (out_.fail()) throw file_error(file_, "cannot write the MCAP file");
-  std::error_code ec;
-  fs::rename(partial_, file_, ec);
-  if (ec) throw file_error(file_, "cannot replace the file: " + ec.message());
+  out_.commit();
   closed_ = true;
 }
 

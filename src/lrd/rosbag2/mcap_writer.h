@@ -6,12 +6,12 @@
 // beside its name and renamed into place by close(); an unclosed writer removes it.
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "lrd/rosbag2/compression.h"
+#include "lrd/util/atomic_file.h"
 
 namespace lrd::rosbag2 {
 
@@ -46,9 +46,8 @@ class McapWriter {
   void flush_chunk();
   void write_summary();
 
-  std::filesystem::path file_, partial_;
   McapWriterOptions options_;
-  std::ofstream out_;
+  util::AtomicFile out_;
   std::uint64_t offset_ = 0;
   std::uint32_t data_crc_ = 0;  // of everything written so far, until the data end record
   bool closed_ = false;

@@ -113,10 +113,8 @@ std::vector<std::uint8_t> Sqlite3Reader::read(const MessageRef& ref) const {
   return data ? std::vector<std::uint8_t>(data, data + n) : std::vector<std::uint8_t>();
 }
 
-Sqlite3Writer::Sqlite3Writer(const fs::path& file) : file_(file), partial_(fs::path(file) += ".partial") {
-  std::error_code ec;
-  fs::remove(partial_, ec);
-  if (sqlite3_open_v2(partial_.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) !=
+Sqlite3Writer::Sqlite3Writer(const fs::path& file) : file_(file), out_(file) {
+  if (sqlite3_open_v2(out_.temporary().c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) !=
       SQLITE_OK)
     throw file_error(file_, fmt::format("cannot create the sqlite3 bag: {}", sqlite3_errmsg(db_)));
   // rosbag2's (humble) schema; one transaction for the whole bag.
@@ -137,11 +135,7 @@ Sqlite3Writer::Sqlite3Writer(const fs::path& file) : file_(file), partial_(fs::p
 
 Sqlite3Writer::~Sqlite3Writer() {
   sqlite3_finalize(insert_);
-  if (db_ != nullptr) {
-    sqlite3_close(db_);
-    std::error_code ec;
-    fs::remove(partial_, ec);
-  }
+  if (db_ != nullptr) sqlite3_close(db_);  // then out_ removes the temporary
 }
 
 void Sqlite3Writer::exec(const char* sql) {
@@ -183,12 +177,7 @@ void Sqlite3Writer::close() {
   insert_ = nullptr;
   if (sqlite3_close(db_) != SQLITE_OK) throw file_error(file_, "cannot close the sqlite3 bag");
   db_ = nullptr;
-  std::error_code ec;
-  fs::rename(partial_, file_, ec);
-  if (ec) {
-    fs::remove(partial_, ec);
-    throw file_error(file_, "cannot replace the file: " + ec.message());
-  }
+  out_.commit();
 }
 
 }  // namespace lrd::rosbag2

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "lrd/rosbag2/bag_storage.h"
+#include "lrd/util/atomic_file.h"
 
 struct sqlite3;
 struct sqlite3_stmt;
@@ -56,7 +57,8 @@ class Sqlite3Writer {
 
  private:
   void exec(const char* sql);
-  std::filesystem::path file_, partial_;
+  std::filesystem::path file_;
+  util::AtomicFile out_;  // sqlite3 writes the temporary by name
   sqlite3* db_ = nullptr;
   sqlite3_stmt* insert_ = nullptr;
   std::int64_t next_topic_ = 1;

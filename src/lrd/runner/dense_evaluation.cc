@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 
+#include "lrd/io/image_file.h"
 #include "lrd/util/error.h"
 
 namespace lrd::runner {
@@ -15,8 +16,9 @@ long long micros(double t) {
   return std::llround(t * 1e6);
 }
 
+// Five images a keyframe, made again by a rerun: not synced one by one (util::Sync).
 void write_png(const fs::path& file, const cv::Mat& img) {
-  if (!cv::imwrite(file.string(), img)) throw file_error(file, "cannot write");
+  io::write_image_file(file, img, {}, util::Sync::no);
 }
 
 cv::Mat depth_png(const cv::Mat& metres, double factor) {

@@ -3,10 +3,10 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
-#include <opencv2/imgcodecs.hpp>
 
 #include "lrd/dense/cloud_renderer.h"
 #include "lrd/dense/ply_io.h"
+#include "lrd/io/image_file.h"
 #include "lrd/runner/map_evaluation.h"
 #include "lrd/util/error.h"
 
@@ -29,8 +29,7 @@ DenseReport finish_dense(const System& slam, const RepairRecorder& repairs, cons
   if (!keyframes.empty() && cloud.size() > 0) {
     const cv::Mat picture =
         dense::render_cloud(cloud, camera, dense::overview_pose(cloud, keyframes.front().pose));
-    const fs::path png = o.out / "dense_map.png";
-    if (!cv::imwrite(png.string(), picture)) throw file_error(png, "cannot write");
+    io::write_image_file(o.out / "dense_map.png", picture);
   }
   d.repair = slam.repair_totals();
   d.storage = slam.dense_storage();

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <opencv2/imgcodecs.hpp>
 
+#include "lrd/io/image_file.h"
 #include "lrd/util/error.h"
 
 namespace lrd::runner {
@@ -23,7 +24,7 @@ void RunRecorder::on_frame(const events::FrameTracked& e) {
   if (save_masks_) {
     const std::filesystem::path file = *save_masks_ / sequence_.entry(index).rgb_path.filename();
     const cv::Mat m = e.mask.empty() ? cv::Mat::zeros(e.grey.size(), CV_8UC1) : e.mask;
-    if (!cv::imwrite(file.string(), m)) throw file_error(file.string(), "cannot write the mask");
+    io::write_image_file(file, m, {}, util::Sync::no);  // one a frame: not synced one by one
   }
   bar_.update(log_.size(), fmt::format("{} ({} inliers)", tracking::to_string(e.state), e.inliers));
 }

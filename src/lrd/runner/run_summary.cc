@@ -2,11 +2,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
 
 #include "lrd/runner/sequence_runner.h"
+#include "lrd/util/atomic_file.h"
+#include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
 
 namespace lrd::runner {
@@ -45,7 +46,8 @@ StageSummary summarize(std::vector<double> ms) {
 }  // namespace
 
 void write_track_times(const fs::path& file, const std::vector<FrameLog>& log) {
-  std::ofstream out(file);
+  util::AtomicFile file_out(file);
+  std::ostream& out = file_out.stream();
   // segmentation_ms runs in its own thread (not part of total_ms); mask_frame/mask_age say which
   // frame's mask was used (-1: none); dynamic_kps: keypoints the geometry check removed.
   out << "# frame timestamp extraction_ms segmentation_ms mask_wait_ms geometry_ms tracking_ms waiting_ms "
@@ -57,8 +59,7 @@ void write_track_times(const fs::path& file, const std::vector<FrameLog>& log) {
                        1e3 * f.timing.waiting, 1e3 * f.timing.mapping, 1e3 * f.timing.total(),
                        tracking::to_string(f.state), f.inliers, f.mask_frame, f.mask_age,
                        f.geometric_keypoints);
-  out.close();
-  if (!out) throw file_error(file.string(), "cannot write");
+  file_out.commit();
 }
 
 void summarize_log(RunReport& report) {
@@ -255,10 +256,7 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
                                  {"path_blocked_share", a.path_blocked_share()}};
     }
   }
-  std::ofstream out(file);
-  out << j.dump(2) << '\n';
-  out.close();
-  if (!out) throw file_error(file.string(), "cannot write");
+  util::write_file_bytes(file, j.dump(2) + '\n');
 }
 
 }  // namespace lrd::runner

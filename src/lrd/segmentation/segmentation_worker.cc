@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "lrd/util/error.h"
+#include "lrd/util/exception_message.h"
 #include "lrd/util/fault_injection.h"
 #include "lrd/util/thread_priority.h"
 
@@ -83,9 +84,10 @@ void SegmentationWorker::run() {
       error_ = std::current_exception();
       result_ready_.notify_all();
       return;
-    } catch (const std::exception& e) {
+    } catch (const std::exception&) {
       std::lock_guard lock(mutex_);
-      error_ = std::make_exception_ptr(Error(segmenter_->describe() + ": " + e.what()));
+      error_ = std::make_exception_ptr(
+          Error(segmenter_->describe() + ": " + util::exception_message(std::current_exception())));
       result_ready_.notify_all();
       return;
     } catch (...) {

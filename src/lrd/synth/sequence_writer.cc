@@ -1,7 +1,6 @@
 #include "lrd/synth/sequence_writer.h"
 
 #include <fmt/format.h>
-#include <fmt/os.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -10,12 +9,13 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "lrd/dense/ply_io.h"
 #include "lrd/eval/motion_statistics.h"
+#include "lrd/io/image_file.h"
 #include "lrd/io/trajectory.h"
 #include "lrd/synth/motion_matching.h"
+#include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
 
 namespace lrd::synth {
@@ -25,15 +25,17 @@ namespace {
 
 void write_png(const fs::path& path, const cv::Mat& img) {
   // OpenCV's default PNG settings (SUB filter, fastest zlib level, RLE) encode 2-4x faster than
-  // any explicit compression level: noisy renders barely compress further anyway.
-  if (!cv::imwrite(path.string(), img)) throw file_error(path, "cannot write PNG");
+  // any explicit compression level: noisy renders barely compress further anyway. Five files a
+  // frame, which a rerun makes again: not synced one by one (util::Sync).
+  io::write_image_file(path, img, {}, util::Sync::no);
 }
 
 void write_list(const fs::path& file, const std::string& title, const std::string& folder,
                 const std::vector<double>& stamps) {
-  auto out = fmt::output_file(file.string());
-  out.print("# {}\n# file: 'lrdslam synth'\n# timestamp filename\n", title);
-  for (double t : stamps) out.print("{:.6f} {}/{}\n", t, folder, frame_file_name(t));
+  util::write_file_atomic(file, [&](std::ostream& out) {
+    out << fmt::format("# {}\n# file: 'lrdslam synth'\n# timestamp filename\n", title);
+    for (double t : stamps) out << fmt::format("{:.6f} {}/{}\n", t, folder, frame_file_name(t));
+  });
 }
 
 }  // namespace
@@ -43,8 +45,7 @@ std::string frame_file_name(double stamp) {
 }
 
 void write_orbslam_settings(const fs::path& file, const camera::PinholeCamera& c) {
-  auto out = fmt::output_file(file.string());
-  out.print(
+  std::string text = fmt::format(
       "%YAML:1.0\n\n# Written by lrdslam synth (ORB-SLAM2 settings format).\nCamera.fx: {}\nCamera.fy: {}\n"
       "Camera.cx: {}\nCamera.cy: {}\n\nCamera.k1: {}\nCamera.k2: {}\nCamera.p1: {}\nCamera.p2: "
       "{}\nCamera.k3: {}\n\n"
@@ -56,8 +57,9 @@ void write_orbslam_settings(const fs::path& file, const camera::PinholeCamera& c
       c.distortion.k3, c.width, c.height, c.fps, c.bf, c.rgb_order ? 1 : 0, c.th_depth, c.depth_map_factor);
   // lrd-slam's own key, only for a rolling-shutter camera (clean sequences stay as they were).
   if (c.readout_time > 0.0)
-    out.print("\n# Rolling shutter: rows read out over this time (s).\nCamera.readoutTime: {}\n",
-              c.readout_time);
+    text += fmt::format("\n# Rolling shutter: rows read out over this time (s).\nCamera.readoutTime: {}\n",
+                        c.readout_time);
+  util::write_file_bytes(file, text);
 }
 
 SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
@@ -106,14 +108,14 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
   }
   write_list(out / "rgb.txt", "color images", "rgb", rgb_stamps);
   write_list(out / "depth.txt", "depth maps", "depth", depth_stamps);
-  {
-    auto assoc = fmt::output_file((out / "associations.txt").string());
+  util::write_file_atomic(out / "associations.txt", [&](std::ostream& assoc) {
     for (int i = 0; i < n; ++i) {
       const double tr = rgb_stamps[static_cast<std::size_t>(i)],
                    td = depth_stamps[static_cast<std::size_t>(i)];
-      assoc.print("{:.6f} rgb/{} {:.6f} depth/{}\n", tr, frame_file_name(tr), td, frame_file_name(td));
+      assoc << fmt::format("{:.6f} rgb/{} {:.6f} depth/{}\n", tr, frame_file_name(tr), td,
+                           frame_file_name(td));
     }
-  }
+  });
   io::write_trajectory_tum(out / "groundtruth.txt", seq.ground_truth());
   write_orbslam_settings(out / "settings.yaml", seq.camera());
   dense::write_ply(out / "scene.ply", seq.scene_samples());  // the static surfaces, to judge dense maps
@@ -172,10 +174,7 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
                               {"median", s.median_dynamic_fraction},
                               {"max", s.max_dynamic_fraction},
                               {"frames_20_to_50_percent", s.frames_with_20_to_50_percent}};
-  {
-    auto js = fmt::output_file((out / "sequence.json").string());
-    js.print("{}\n", meta.dump(2));
-  }
+  util::write_file_bytes(out / "sequence.json", meta.dump(2) + "\n");
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;
 }

@@ -1,16 +1,17 @@
 #include "lrd/synth/voc_exporter.h"
 
 #include <fmt/format.h>
-#include <fmt/os.h>
 #include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
 
+#include "lrd/io/image_file.h"
 #include "lrd/synth/portable_random.h"
 #include "lrd/synth/presets.h"
 #include "lrd/synth/synthetic_sequence.h"
+#include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
 
 namespace lrd::synth {
@@ -53,11 +54,10 @@ VocExportSummary export_voc(const fs::path& dir, const VocExportOptions& options
       const int frame = static_cast<int>(rng.pick(static_cast<std::size_t>(seq.size())));
       const SynthFrame f = seq.render(frame);
       const std::string name = fmt::format("synth_{}_{}_{:04d}", o.preset, o.seed, frame);
-      if (!cv::imwrite((dir / "JPEGImages" / (name + ".jpg")).string(), f.rgb,
-                       {cv::IMWRITE_JPEG_QUALITY, 95}))
-        throw file_error(dir / "JPEGImages" / (name + ".jpg"), "cannot write image");
-      if (!cv::imwrite((dir / "SegmentationClassAug" / (name + ".png")).string(), f.voc_class))
-        throw file_error(dir / "SegmentationClassAug" / (name + ".png"), "cannot write label image");
+      // Thousands of images a rerun makes again: not synced one by one (util::Sync).
+      io::write_image_file(dir / "JPEGImages" / (name + ".jpg"), f.rgb, {cv::IMWRITE_JPEG_QUALITY, 95},
+                           util::Sync::no);
+      io::write_image_file(dir / "SegmentationClassAug" / (name + ".png"), f.voc_class, {}, util::Sync::no);
       names[static_cast<std::size_t>(image)] = name;
       person[static_cast<std::size_t>(image)] =
           cv::countNonZero(f.voc_class == 15) / static_cast<double>(f.voc_class.total());
@@ -69,8 +69,7 @@ VocExportSummary export_voc(const fs::path& dir, const VocExportOptions& options
   });
   // Whole sequences go to validation, so no val frame has a near-duplicate in train.
   VocExportSummary summary;
-  auto train = fmt::output_file((dir / "ImageSets/Segmentation/train.txt").string());
-  auto val = fmt::output_file((dir / "ImageSets/Segmentation/val.txt").string());
+  std::string train, val;
   const int val_every =
       options.val_fraction > 0 ? std::max(2, static_cast<int>(1.0 / options.val_fraction)) : 0;
   for (int i = 0; i < options.images; ++i) {
@@ -78,10 +77,12 @@ VocExportSummary export_voc(const fs::path& dir, const VocExportOptions& options
     // Every val_every-th sequence; with fewer sequences than that, the last one (if not the only).
     const bool is_val = val_every > 0 && (seq % val_every == val_every - 1 ||
                                           (sequences < val_every && sequences > 1 && seq == sequences - 1));
-    (is_val ? val : train).print("{}\n", names[static_cast<std::size_t>(i)]);
+    (is_val ? val : train) += names[static_cast<std::size_t>(i)] + '\n';
     (is_val ? summary.val : summary.train) += 1;
     summary.person_pixel_fraction += person[static_cast<std::size_t>(i)] / options.images;
   }
+  util::write_file_bytes(dir / "ImageSets/Segmentation/train.txt", train);
+  util::write_file_bytes(dir / "ImageSets/Segmentation/val.txt", val);
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

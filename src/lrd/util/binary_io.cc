@@ -22,22 +22,10 @@ std::string read_file_bytes(const fs::path& file, const std::string& kind) {
   return bytes;
 }
 
-void write_file_bytes(const fs::path& file, std::string_view bytes) {
-  fs::path partial = file;
-  partial += ".partial";
-  {
-    std::ofstream out(partial, std::ios::binary | std::ios::trunc);
-    if (!out) throw file_error(file, "cannot open for writing");
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (out.fail()) throw file_error(file, "cannot write " + std::to_string(bytes.size()) + " bytes");
-  }
-  std::error_code ec;
-  fs::rename(partial, file, ec);
-  if (ec) {
-    fs::remove(partial, ec);
-    throw file_error(file, "cannot replace the file: " + ec.message());
-  }
+void write_file_bytes(const fs::path& file, std::string_view bytes, Sync sync) {
+  AtomicFile out(file, sync);
+  out.write(bytes);
+  out.commit();
 }
 
 }  // namespace lrd::util

@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "lrd/util/atomic_file.h"
 #include "lrd/util/error.h"
 
 namespace lrd::util {
@@ -81,8 +82,8 @@ class ByteReader {
 
 // The whole file; throws "FILE: <problem>" when it is missing or unreadable.
 [[nodiscard]] std::string read_file_bytes(const std::filesystem::path& file, const std::string& kind);
-// Writes the bytes (through a temporary beside it, renamed over FILE: a crash never leaves half
-// a file); throws "FILE: <problem>".
-void write_file_bytes(const std::filesystem::path& file, std::string_view bytes);
+// Writes the bytes through util::AtomicFile (a temporary beside FILE renamed over it: a crash or a
+// full disk never leaves half a file); throws "FILE: <problem>".
+void write_file_bytes(const std::filesystem::path& file, std::string_view bytes, Sync sync = Sync::yes);
 
 }  // namespace lrd::util

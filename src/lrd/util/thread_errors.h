@@ -9,6 +9,7 @@
 #include <string>
 
 #include "lrd/util/error.h"
+#include "lrd/util/exception_message.h"
 
 namespace lrd::util {
 
@@ -18,19 +19,16 @@ class ThreadErrors {
   // first is the cause.
   void capture(const std::string& thread) noexcept {
     try {
-      const std::exception_ptr e = std::current_exception();
-      std::string message = "unknown error";
-      try {
-        if (e) std::rethrow_exception(e);
-      } catch (const std::exception& x) {
-        message = x.what();
-      } catch (...) {
-      }
+      const std::string message = exception_message(std::current_exception());
       std::lock_guard lock(mutex_);
       if (has_error_.load()) return;
-      message_ = thread + " thread: " + message;
+      try {
+        message_ = thread + " thread: " + message;
+      } catch (...) {
+        message_ = "out of memory";  // no room for the thread's name; this fits the string's own buffer
+      }
       has_error_.store(true);
-    } catch (...) {  // out of memory for the message: keep that there was an error
+    } catch (...) {  // not even the lock: keep that there was an error (rethrow() says which)
       has_error_.store(true);
     }
   }
@@ -47,7 +45,9 @@ class ThreadErrors {
   }
   // Throws the first error, if there is one.
   void rethrow() const {
-    if (has_error_.load()) throw Error(message());
+    if (!has_error_.load()) return;
+    std::string text = message();
+    throw Error(text.empty() ? "out of memory" : text);  // empty: capture() found no memory for it
   }
 
  private:
