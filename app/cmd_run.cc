@@ -65,6 +65,7 @@ struct RunCli {
   bool report = false;
   std::size_t max_frames = 0;
   std::string load_map, save_map;
+  double autosave = 0.0;
   bool localization_only = false;
   BagCli bag;
   // --synth: frames rendered on the decoding thread, nothing written but the outputs.
@@ -262,6 +263,12 @@ void register_run_command(CLI::App& app) {
                 "With --load-map: track against the loaded map without adding keyframes or map points");
   cmd->add_option("--save-map", cli->save_map,
                   "Write the final sparse map (keyframes, map points, graphs) to this .lrdmap file");
+  cmd->add_option(
+         "--autosave", cli->autosave,
+         "With --save-map: write the map there and the trajectory so far to OUT/CameraTrajectory.txt "
+         "every SECONDS and after each loop closure, so that a run killed hard leaves its last "
+         "complete save (restart with --load-map on it)")
+      ->type_name("SECONDS");
   cmd->add_flag("--quiet", cli->quiet, "No progress bar");
   cmd->add_flag("--report", cli->report,
                 "Write OUT/report.html at the end: one self-contained page (as `lrdslam report OUT`)");
@@ -295,6 +302,7 @@ void register_run_command(CLI::App& app) {
     if (!cli->load_map.empty()) o.load_map = cli->load_map;
     if (!cli->save_map.empty()) o.save_map = cli->save_map;
     o.localization_only = cli->localization_only;
+    o.autosave_seconds = cli->autosave;
     o.realtime = cli->realtime;
     o.preload = cli->preload;
     o.yardstick = cli->yardstick;

@@ -14,5 +14,6 @@ void register_vocab_command(CLI::App& app);
 void register_report_command(CLI::App& app);
 void register_sweep_command(CLI::App& app);
 void register_ros2_play_command(CLI::App& app);
+void register_map_command(CLI::App& app);
 
 }  // namespace lrd::app

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   lrd::app::register_segment_command(app);
   lrd::app::register_eval_map_command(app);
   lrd::app::register_vocab_command(app);
+  lrd::app::register_map_command(app);
   lrd::app::register_report_command(app);
   lrd::app::register_sweep_command(app);
   lrd::app::register_ros2_play_command(app);

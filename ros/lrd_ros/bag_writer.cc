@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "lrd/util/atomic_file.h"
 #include "lrd/util/error.h"
 #include "lrd_ros/image_messages.h"
 #include "lrd_ros/pose_messages.h"
@@ -29,8 +30,11 @@ tf2_msgs::TFMessage tf_message(const lrd::io::StampedPose& p, const BagLayout& l
 
 void write_bag(const lrd::io::FrameSource& source, const lrd::camera::PinholeCamera& camera,
                const std::filesystem::path& file, const BagLayout& layout) {
+  // Whole or not at all: rosbag writes the temporary, renamed over `file` once closed; a failure
+  // (a frame that does not load, a full disk) leaves a bag already there as it was.
+  lrd::util::AtomicFile out(file);
   try {
-    rosbag::Bag bag(file.string(), rosbag::bagmode::Write);
+    rosbag::Bag bag(out.temporary().string(), rosbag::bagmode::Write);
     for (std::size_t i = 0; i < source.size(); ++i) {
       const lrd::io::FrameEntry& e = source.entry(i);
       const lrd::io::RgbdFrame f = source.load_rgbd(i, camera.depth_map_factor);
@@ -45,12 +49,9 @@ void write_bag(const lrd::io::FrameSource& source, const lrd::camera::PinholeCam
         bag.write("/tf", to_stamp(p.timestamp), tf_message(p, layout));
     bag.close();
   } catch (const rosbag::BagException& e) {
-    std::filesystem::remove(file);
     throw lrd::file_error(file, std::string("cannot write the bag: ") + e.what());
-  } catch (...) {
-    std::filesystem::remove(file);  // no half-written bag left behind (a frame failed to load)
-    throw;
   }
+  out.commit();
 }
 
 }  // namespace lrd_ros

@@ -133,7 +133,6 @@ void Ros2Node::on_publication(const dds_builtintopic_endpoint_t& e) {
 }
 
 void Ros2Node::on_colour(const sensor_msgs_msg_dds__Image_& m) {
-  driver_->count_received();
   Incoming in;
   try {
     in.image = colour_from_message(m);
@@ -157,6 +156,8 @@ void Ros2Node::on_depth(const sensor_msgs_msg_dds__Image_& m) {
 }
 
 void Ros2Node::on_pair(lrd::node::FramePairer<Incoming>::Pair pair) {
+  // A pair, not a colour image: over best-effort transport an image can come without its depth.
+  driver_->count_received();
   lrd::node::NodeFrame f;
   f.rgb = std::move(pair.colour.image.image);
   f.depth = std::move(pair.depth.image.image);

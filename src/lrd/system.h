@@ -14,6 +14,7 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <string>
 
 #include "lrd/config/config.h"
 #include "lrd/dense/dense_mapper.h"
@@ -72,6 +73,34 @@ struct MapStats {
   int rejected_loops = 0;  // detected but contradicted by the map (loop/loop_agreement.h)
 };
 
+// Where the time of one save_map() went.
+struct MapSaveTiming {
+  double lock_seconds = 0.0;       // the map mutex held: what tracking may have waited
+  double serialize_seconds = 0.0;  // the bytes built from the copy
+  double write_seconds = 0.0;      // written and synced
+  std::size_t bytes = 0;
+};
+
+// A map save in two steps (System::capture_map): what can change in the map was copied under its
+// mutex; serialize() builds the file's bytes, in any thread, from the copy and the keyframes'
+// features, which never change. While it lives, keyframes culled since the copy are not freed:
+// let it go before the System is reset or destroyed.
+class PendingMapSave {
+ public:
+  struct State;
+  PendingMapSave(std::unique_ptr<State> state, double lock_seconds);
+  ~PendingMapSave();
+  PendingMapSave(PendingMapSave&&) noexcept = default;
+  PendingMapSave& operator=(PendingMapSave&&) = delete;
+
+  [[nodiscard]] std::string serialize() const;                         // the .lrdmap file's bytes
+  [[nodiscard]] double lock_seconds() const { return lock_seconds_; }  // the map mutex held
+
+ private:
+  std::unique_ptr<State> state_;
+  double lock_seconds_ = 0.0;
+};
+
 class System {
  public:
   // Reads every module's parameters from `config` (SystemParams::from_config) with `options`'
@@ -114,9 +143,14 @@ class System {
   void save_keyframe_trajectory_tum(const std::filesystem::path& file) const;
 
   // --- map files (map/map_file.h, issue 20)
-  // Writes the map as it is now (after shutdown(): the final one) to `file` (.lrdmap). Throws
-  // lrd::Error naming the file.
-  void save_map(const std::filesystem::path& file) const;
+  // Writes the map as it is now (after shutdown(): the final one) to `file` (.lrdmap), whole or
+  // not at all; any thread, while frames are tracked (tracking waits only while the map's
+  // changing parts are copied: MapSaveTiming::lock_seconds). Throws lrd::Error naming the file.
+  MapSaveTiming save_map(const std::filesystem::path& file) const;
+  // save_map's first step, for a saver that builds and writes the bytes at its own pace (on a
+  // thread of low priority): any thread, while frames are tracked. Throws lrd::Error without a
+  // vocabulary.
+  [[nodiscard]] PendingMapSave capture_map() const;
   // Starts from a saved map instead of an empty one: the first frames relocalize against it and
   // are reported not-localized until one is placed; the trajectory is in the map's frame. Call
   // before the first frame. Throws lrd::Error naming the file for a bad file, or one made with

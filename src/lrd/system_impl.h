@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <opencv2/features2d.hpp>
 #include <string>
 
@@ -21,6 +22,8 @@ struct System::Impl {
   [[nodiscard]] std::unique_ptr<Pipeline> make_pipeline(std::uint32_t generation);
   // What a map file records beside the map: camera and vocabulary (system_maps.cc).
   [[nodiscard]] map::MapFileHeader map_file_header() const;
+  // The vocabulary's fingerprint, hashed once (its whole file's bytes: too slow for every autosave).
+  [[nodiscard]] std::uint64_t vocabulary_fingerprint() const;
 
   TrackResult track(const cv::Mat& rgb, const cv::Mat& depth, double timestamp, const cv::Mat& mask);
   void publish_frame(const TrackResult& r, const tracking::TrackOutcome& outcome, const data::Frame& frame,
@@ -42,6 +45,8 @@ struct System::Impl {
   std::size_t loaded_keyframes = 0, loaded_map_points = 0;  // load_map()
   std::string failure;                   // the error track_rgbd threw that stopped the system (empty: none)
   cv::Ptr<cv::Feature2D> yardstick_orb;  // SystemOptions::yardstick: OpenCV's ORB, Y's definition
+  mutable std::once_flag fingerprint_once;
+  mutable std::uint64_t fingerprint = 0;
 };
 
 }  // namespace lrd

@@ -1,6 +1,7 @@
 // System::save_map and System::load_map (issue 20): the map outlives the process.
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <mutex>
 
 #include "lrd/map/keyframe.h"
@@ -15,22 +16,77 @@ map::MapFileHeader System::Impl::map_file_header() const {
   map::MapFileHeader header;
   header.camera = config.camera;
   if (vocabulary) {
-    header.vocabulary_fingerprint = vocabulary->fingerprint();
+    header.vocabulary_fingerprint = vocabulary_fingerprint();
     header.vocabulary_words = vocabulary->word_count();
   }
   return header;
 }
 
-void System::save_map(const std::filesystem::path& file) const {
+std::uint64_t System::Impl::vocabulary_fingerprint() const {
+  std::call_once(fingerprint_once, [this] { fingerprint = vocabulary ? vocabulary->fingerprint() : 0; });
+  return fingerprint;
+}
+
+// What a PendingMapSave holds: the copy, and its place among the map's reclamation participants.
+struct PendingMapSave::State {
+  map::Reclamation* reclamation = nullptr;
+  map::Reclamation::Participant participant = 0;
+  map::MapCapture capture;
+};
+
+PendingMapSave::PendingMapSave(std::unique_ptr<State> state, double lock_seconds)
+    : state_(std::move(state)), lock_seconds_(lock_seconds) {}
+
+PendingMapSave::~PendingMapSave() {
+  if (state_) state_->reclamation->leave(state_->participant);
+}
+
+std::string PendingMapSave::serialize() const {
+  return map::serialize_capture(state_->capture);
+}
+
+PendingMapSave System::capture_map() const {
+  if (!impl_->vocabulary)
+    throw Error("no vocabulary is loaded: a map saved without one could never be relocalized in");
+  using Clock = std::chrono::steady_clock;
+  map::Map& map = impl_->pipe->map;
+  auto state = std::make_unique<PendingMapSave::State>();
+  const map::MapFileHeader header = impl_->map_file_header();
+  // The keyframes' features are read after the mutex is released: taking part in reclamation
+  // keeps a keyframe culled meanwhile from being freed until the save is done with it.
+  state->reclamation = &map.reclamation();
+  state->participant = state->reclamation->join("map save");
+  double lock_seconds = 0.0;
+  try {
+    std::lock_guard lock(map.mutex());
+    const auto t0 = Clock::now();
+    state->capture = map::capture_map(map, header);
+    lock_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  } catch (...) {
+    state->reclamation->leave(state->participant);
+    throw;
+  }
+  return PendingMapSave(std::move(state), lock_seconds);
+}
+
+MapSaveTiming System::save_map(const std::filesystem::path& file) const {
   if (!impl_->vocabulary)
     throw file_error(file, "no vocabulary is loaded: a map saved without one could never be relocalized in");
-  const map::MapFileHeader header = impl_->map_file_header();
+  using Clock = std::chrono::steady_clock;
+  MapSaveTiming timing;
   std::string bytes;
   {
-    std::lock_guard lock(impl_->pipe->map.mutex());
-    bytes = map::serialize_map(impl_->pipe->map, header);
+    const PendingMapSave pending = capture_map();
+    const auto t0 = Clock::now();
+    bytes = pending.serialize();
+    timing.lock_seconds = pending.lock_seconds();
+    timing.serialize_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   }
+  const auto t1 = Clock::now();
   util::write_file_bytes(file, bytes);
+  timing.write_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+  timing.bytes = bytes.size();
+  return timing;
 }
 
 void System::load_map(const std::filesystem::path& file) {
@@ -46,7 +102,7 @@ void System::load_map(const std::filesystem::path& file) {
   {
     std::lock_guard lock(fresh->map.mutex());
     (void)map::load_map_file(file, fresh->map,
-                             map::MapFileExpectation{s.config.camera, s.vocabulary->fingerprint()});
+                             map::MapFileExpectation{s.config.camera, s.vocabulary_fingerprint()});
     // Bag-of-words vectors are not in the file: they follow from the vocabulary.
     for (map::KeyFrame* kf : fresh->map.keyframes()) {
       kf->compute_bow(*s.vocabulary);

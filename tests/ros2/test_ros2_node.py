@@ -144,6 +144,32 @@ def run(sequence, tmp_path_factory):
             "tmp": tmp}
 
 
+def test_the_autosave_parameter_keeps_a_loadable_map_while_the_node_runs(sequence, tmp_path):
+    # A node of its own (static mode, a light load), so that the main run keeps its timing.
+    domain = 65
+    out = tmp_path / "out"
+    with Node(domain, tmp_path / "node.log", "-p", "mode:=static", "-p", f"output_dir:={out}", "-p",
+              "queue_size:=200", "-p", "autosave:=0.5") as node:
+        node.wait_ready()
+        play = subprocess.run([CLI_BIN, "ros2-play", "--sequence", sequence, "--rate", str(RATE), "--frames", "40",
+                               "--wait", "30"], capture_output=True, text=True, env=env(domain), timeout=300)
+        assert play.returncode == 0, play.stdout + play.stderr
+        time.sleep(2)  # saves after the last frames
+        # What the autosave wrote while the node ran (the stop writes its final map over it).
+        autosaved = tmp_path / "autosaved.lrdmap"
+        shutil.copyfile(out / "map.lrdmap", autosaved)
+        autosaved_poses = (out / "CameraTrajectory.txt").read_text().count("\n")
+        status = node.interrupt()
+    assert status == 0, node.output()
+    info = subprocess.run([CLI_BIN, "map", "info", autosaved, out / "map.lrdmap"], capture_output=True, text=True,
+                          timeout=60)
+    assert info.returncode == 0, info.stderr
+    autosaved_keyframes, final_keyframes = [int(line.split(": ")[1].split()[0]) for line in info.stdout.splitlines()]
+    assert 1 <= autosaved_keyframes <= final_keyframes, info.stdout
+    tracked = json.loads((out / "node_summary.json").read_text())["tracked"]
+    assert tracked >= 10 and autosaved_poses >= tracked - 5, (tracked, autosaved_poses)
+
+
 def test_poses_reach_an_independent_ros2_subscriber_within_2cm_of_the_ground_truth(run, sequence):
     s = run["summary"]
     assert s["malformed"] == 0 and s["no_camera"] == 0 and s["lost"] == 0, (s, run["node"])
@@ -265,6 +291,7 @@ def test_parameters_from_a_file_and_the_command_line(tmp_path):
     (["-p", "dense:=maybe"], "64", "parameter dense (-p dense): 'maybe' is not a bool"),
     (["-p", "distro:=foxy"], "64", "distro 'foxy' is not one of humble"),
     (["--bogus"], "64", "--ros-args: unknown argument '--bogus'"),
+    (["-p", "autosave:=-1.0"], "64", "autosave must be a number of seconds >= 0 (0: off), got -1"),
     ([], "500", "ROS_DOMAIN_ID '500' is not a domain id 0..232"),
 ])
 def test_a_bad_parameter_stops_the_node_with_one_line(args, domain, message):

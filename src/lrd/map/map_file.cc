@@ -39,13 +39,48 @@ void put_camera(std::string& s, const camera::PinholeCamera& cam) {
     put_f64(s, v);
 }
 
-void put_keyframe(std::string& s, KeyFrame& kf) {  // non-const: points look keyframes up by pointer
+// What can change in a keyframe once it exists, copied under the map mutex: its pose, its matches
+// and its places in the graphs. Its features never change, so they are read later, without the
+// mutex (map_file.h: MapCapture).
+CapturedKeyFrame capture_keyframe(KeyFrame& kf) {  // non-const: points look keyframes up by pointer
+  CapturedKeyFrame c;
+  c.keyframe = &kf;
+  c.T_cw = kf.T_cw();
+  c.point_ids.resize(kf.features().size());
+  for (std::size_t i = 0; i < c.point_ids.size(); ++i) {
+    // Only points that know this keyframe: a keyframe still queued for local mapping may hold
+    // matches that do not (yet) observe it, and a loaded map must be consistent both ways.
+    MapPoint* mp = kf.map_point(i);
+    c.point_ids[i] = mp != nullptr && !mp->is_bad() && mp->is_in_keyframe(&kf) ? mp->id() : kNone;
+  }
+  std::string& s = c.graph;
+  const auto put_edges = [&s](const auto& edges) {
+    put_u32(s, static_cast<std::uint32_t>(edges.size()));
+    for (const auto& [other, weight] : edges) {
+      put_u64(s, other->id());
+      put_i32(s, weight);
+    }
+  };
+  put_edges(kf.connections());
+  std::vector<std::pair<KeyFrame*, int>> ordered;
+  for (std::size_t i = 0; i < kf.ordered_covisibles().size(); ++i)
+    ordered.emplace_back(kf.ordered_covisibles()[i], kf.ordered_weights()[i]);
+  put_edges(ordered);
+  put_u64(s, kf.parent() != nullptr ? kf.parent()->id() : kNone);
+  put_u32(s, static_cast<std::uint32_t>(kf.loop_edges().size()));
+  for (const KeyFrame* other : kf.loop_edges()) put_u64(s, other->id());
+  put_u32(s, (kf.not_erase() ? 1u : 0u) | (kf.first_connection() ? 2u : 0u));
+  return c;
+}
+
+void put_keyframe(std::string& s, const CapturedKeyFrame& c) {
+  const KeyFrame& kf = *c.keyframe;
   const data::Frame& f = kf.features();
   const data::Frame::SavedFeatures saved = f.saved_features();
   put_u64(s, kf.id());
   put_u64(s, kf.frame_id());
   put_f64(s, kf.timestamp());
-  put_pose(s, kf.T_cw());
+  put_pose(s, c.T_cw);
   put_u32(s, static_cast<std::uint32_t>(saved.scale_factors.size()));
   for (std::size_t l = 0; l < saved.scale_factors.size(); ++l) {
     put_f32(s, saved.scale_factors[l]);
@@ -65,27 +100,9 @@ void put_keyframe(std::string& s, KeyFrame& kf) {  // non-const: points look key
     put_f32(s, saved.depth[i]);
     put_f32(s, saved.u_right[i]);
     s.append(reinterpret_cast<const char*>(saved.descriptors.ptr(static_cast<int>(i))), 32);
-    // Only points that know this keyframe: a keyframe still queued for local mapping may hold
-    // matches that do not (yet) observe it, and a loaded map must be consistent both ways.
-    MapPoint* mp = kf.map_point(i);
-    put_u64(s, mp != nullptr && !mp->is_bad() && mp->is_in_keyframe(&kf) ? mp->id() : kNone);
+    put_u64(s, c.point_ids[i]);
   }
-  const auto put_edges = [&s](const auto& edges) {
-    put_u32(s, static_cast<std::uint32_t>(edges.size()));
-    for (const auto& [other, weight] : edges) {
-      put_u64(s, other->id());
-      put_i32(s, weight);
-    }
-  };
-  put_edges(kf.connections());
-  std::vector<std::pair<KeyFrame*, int>> ordered;
-  for (std::size_t i = 0; i < kf.ordered_covisibles().size(); ++i)
-    ordered.emplace_back(kf.ordered_covisibles()[i], kf.ordered_weights()[i]);
-  put_edges(ordered);
-  put_u64(s, kf.parent() != nullptr ? kf.parent()->id() : kNone);
-  put_u32(s, static_cast<std::uint32_t>(kf.loop_edges().size()));
-  for (const KeyFrame* other : kf.loop_edges()) put_u64(s, other->id());
-  put_u32(s, (kf.not_erase() ? 1u : 0u) | (kf.first_connection() ? 2u : 0u));
+  s += c.graph;
 }
 
 void put_map_point(std::string& s, const MapPoint& mp) {
@@ -121,34 +138,46 @@ void put_section(std::string& file, const char (&tag)[5], const std::string& pay
 
 }  // namespace
 
-std::string serialize_map(const Map& map, const MapFileHeader& header) {
-  std::string camera, vocabulary, keyframes, points, next_ids;
-  put_camera(camera, header.camera);
-  put_u64(vocabulary, header.vocabulary_fingerprint);
-  put_u64(vocabulary, header.vocabulary_words);
-  const std::vector<KeyFrame*> kfs = map.keyframes();
-  put_u64(keyframes, kfs.size());
-  for (KeyFrame* kf : kfs) put_keyframe(keyframes, *kf);
+MapCapture capture_map(const Map& map, const MapFileHeader& header) {
+  MapCapture c;
+  c.header = header;
+  for (KeyFrame* kf : map.keyframes()) c.keyframes.push_back(capture_keyframe(*kf));
   const std::vector<MapPoint*> mps = map.map_points();
-  put_u64(points, mps.size());
-  for (const MapPoint* mp : mps) put_map_point(points, *mp);
-  put_u64(next_ids, map.next_keyframe_id());
-  put_u64(next_ids, map.next_map_point_id());
+  put_u64(c.points, mps.size());
+  for (const MapPoint* mp : mps) put_map_point(c.points, *mp);
+  c.next_keyframe_id = map.next_keyframe_id();
+  c.next_map_point_id = map.next_map_point_id();
+  return c;
+}
+
+std::string serialize_capture(const MapCapture& c) {
+  std::string camera, vocabulary, keyframes, next_ids;
+  put_camera(camera, c.header.camera);
+  put_u64(vocabulary, c.header.vocabulary_fingerprint);
+  put_u64(vocabulary, c.header.vocabulary_words);
+  put_u64(keyframes, c.keyframes.size());
+  for (const CapturedKeyFrame& kf : c.keyframes) put_keyframe(keyframes, kf);
+  put_u64(next_ids, c.next_keyframe_id);
+  put_u64(next_ids, c.next_map_point_id);
 
   std::string out(kMagic, sizeof kMagic);
   put_u32(out, kMapFileVersion);
   put_u32(out, 5);
   const std::size_t size = kHeaderBytes + 5 * 12 + camera.size() + vocabulary.size() + keyframes.size() +
-                           points.size() + next_ids.size() + 8;
+                           c.points.size() + next_ids.size() + 8;
   put_u64(out, size);
   out.reserve(size);
   put_section(out, "CAMR", camera);
   put_section(out, "VOCB", vocabulary);
   put_section(out, "KFRM", keyframes);
-  put_section(out, "MPNT", points);
+  put_section(out, "MPNT", c.points);
   put_section(out, "NXID", next_ids);
   put_u64(out, util::fnv1a64(out));
   return out;
+}
+
+std::string serialize_map(const Map& map, const MapFileHeader& header) {
+  return serialize_capture(capture_map(map, header));
 }
 
 void save_map_file(const std::filesystem::path& file, const Map& map, const MapFileHeader& header) {

@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "lrd/camera/pinhole_camera.h"
 #include "lrd/map/map.h"
@@ -35,7 +36,29 @@ struct MapFileHeader {
   std::uint64_t vocabulary_words = 0;
 };
 
-// The file's bytes for the map's active keyframes and points. Call under map.mutex().
+// A keyframe as capture_map() copied it: what can still change, and the keyframe itself for its
+// features, which never change once it exists.
+struct CapturedKeyFrame {
+  const KeyFrame* keyframe = nullptr;
+  Eigen::Isometry3d T_cw = Eigen::Isometry3d::Identity();
+  std::vector<std::uint64_t> point_ids;  // per keypoint, the map point it observes (or none)
+  std::string graph;                     // covisibility, spanning tree, loop edges, flags: as saved
+};
+
+// A map file in two steps, so that a save holds the map mutex only for what can change while it
+// runs: capture_map() under map.mutex() copies poses, matches, graphs and map points (a few
+// milliseconds for a room's map); serialize_capture() without the mutex reads the keyframes'
+// features and builds the bytes. The keyframes must live until then: the caller is a
+// reclamation participant that has not declared since the capture, or the map does not change.
+struct MapCapture {
+  MapFileHeader header;
+  std::vector<CapturedKeyFrame> keyframes;
+  std::string points;  // the MPNT section's payload
+  std::uint64_t next_keyframe_id = 0, next_map_point_id = 0;
+};
+[[nodiscard]] MapCapture capture_map(const Map& map, const MapFileHeader& header);
+[[nodiscard]] std::string serialize_capture(const MapCapture& capture);
+// The file's bytes for the map's active keyframes and points, in one step. Call under map.mutex().
 [[nodiscard]] std::string serialize_map(const Map& map, const MapFileHeader& header);
 // Writes serialize_map() to `file` (whole or not at all); throws lrd::Error naming the file.
 void save_map_file(const std::filesystem::path& file, const Map& map, const MapFileHeader& header);

@@ -13,8 +13,15 @@ Reclamation::~Reclamation() = default;
 
 Reclamation::Participant Reclamation::join(std::string name) {
   std::lock_guard lock(mutex_);
-  // A newcomer holds nothing yet: what was removed before it joined does not wait for it.
-  members_.push_back({std::move(name), true, ++epoch_});
+  // A newcomer holds nothing yet: what was removed before it joined does not wait for it. The place
+  // of one that left is taken again (a map saved every few seconds joins for each save).
+  const Member member{std::move(name), true, ++epoch_};
+  for (std::size_t p = 0; p < members_.size(); ++p)
+    if (!members_[p].active) {
+      members_[p] = member;
+      return p;
+    }
+  members_.push_back(member);
   return members_.size() - 1;
 }
 

@@ -43,7 +43,8 @@ class Reclamation {
   Reclamation& operator=(const Reclamation&) = delete;
 
   // A thread that will keep map pointers between holds of the map mutex. From now on nothing
-  // removed is freed before it declares (or leaves).
+  // removed is freed before it declares (or leaves). A participant that left is not used again
+  // (its number may be given to a later one).
   Participant join(std::string name);
   // It holds no map pointers any more (its owner shuts down).
   void leave(Participant p);

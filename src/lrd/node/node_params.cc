@@ -24,6 +24,8 @@ NodeParams NodeParams::from(const ParamReader& r) {
   r.get("world_frame", p.publish.world_frame);
   r.get("queue_size", p.queue_size);
   r.get("max_pair_dt", p.max_pair_dt);
+  r.get("autosave", p.autosave_s);
+  r.get("load_map", p.system.load_map);
   std::string out = p.output_dir.string();
   r.get("output_dir", out);
   p.output_dir = out;
@@ -31,6 +33,9 @@ NodeParams NodeParams::from(const ParamReader& r) {
     throw Error(fmt::format("{} must be 1..1000, got {}", r.display("queue_size"), p.queue_size));
   if (!(p.max_pair_dt > 0.0 && p.max_pair_dt <= 1.0))
     throw Error(fmt::format("{} must be in (0, 1] s, got {}", r.display("max_pair_dt"), p.max_pair_dt));
+  if (!(p.autosave_s >= 0.0))
+    throw Error(fmt::format("{} must be a number of seconds >= 0 (0: off), got {}", r.display("autosave"),
+                            p.autosave_s));
   if (p.publish.map_frame.empty()) throw Error(r.display("map_frame") + " must not be empty");
   if (p.output_dir.empty()) throw Error(r.display("output_dir") + " must not be empty");
   return p;

@@ -47,6 +47,9 @@ struct NodeParams {
   double warn_period_s = 5.0;  // throttle of the drop warnings
   // Colour and depth are paired when their stamps are this close (s; TUM's associate.py rule).
   double max_pair_dt = 0.02;
+  // > 0: the map to output_dir/map.lrdmap and the trajectory so far to output_dir/CameraTrajectory.txt
+  // every so many seconds and after each loop closure (autosave/autosaver.h); 0: at stop only.
+  double autosave_s = 0.0;
   // How the node's users write a parameter (ROS 1: "~"), for the messages that name one.
   std::string param_prefix;
 

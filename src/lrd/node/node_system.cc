@@ -43,6 +43,8 @@ NodeSystem make_system(const NodeSettings& settings,
   const lrd::SystemParams params = lrd::runner::configure_system(o, cfg);
   n.camera = cfg.camera;
   n.system = std::make_unique<lrd::System>(cfg, params, options);
+  // An earlier run's map (an autosave after a crash): the first frames relocalize in it.
+  if (!settings.load_map.empty()) n.system->load_map(settings.load_map);
   n.description = "mode " + lrd::dynamic::to_string(n.system->mode()) + ", segmentation " +
                   n.system->segmentation_description();
   return n;

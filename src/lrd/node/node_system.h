@@ -22,6 +22,7 @@ struct NodeSettings {
   std::string segmenter_model;              // ~segmenter_model
   bool dense = false;                       // ~dense
   bool yardstick = false;                   // ~yardstick: time Y beside each frame (benchmarks)
+  std::string load_map;                     // ~load_map: start from this map file (.lrdmap)
   std::size_t max_queued_frame_events = 4;  // a live node publishes the newest frames
 };
 

@@ -43,7 +43,10 @@ void SlamDriver::count_received() {
 }
 
 void SlamDriver::push(NodeFrame frame) {
-  frames_.push(std::move(frame));
+  if (frames_.push(std::move(frame))) return;
+  // The node is stopping: a pair that arrives now is not taken, so not counted either.
+  std::lock_guard lock(counts_mutex_);
+  --counts_.received;
 }
 
 NodeCounts SlamDriver::counts() const {
@@ -94,6 +97,17 @@ bool SlamDriver::start_system(const NodeFrame& first) {
   system->system->subscribe(publisher_);
   publisher_->attach(system->system.get(), first.frame_id);
   log_.info(fmt::format("camera from {}; {}", system->camera_source, system->description));
+  if (params_.autosave_s > 0.0) {
+    fs::create_directories(params_.output_dir);
+    // Saves wait for a reset (TopicPublisher::exclusive), as the publishers' reads of the map do.
+    autosaver_ = std::make_shared<autosave::Autosaver>(
+        *system->system,
+        autosave::AutosaveOptions{params_.autosave_s, params_.output_dir / "map.lrdmap",
+                                  params_.output_dir / "CameraTrajectory.txt"},
+        [this](const std::function<void()>& save) { publisher_->shared(save); });
+    system->system->subscribe(autosaver_);
+    autosaver_->start();
+  }
   std::lock_guard lock(system_mutex_);
   system_ = std::move(system);
   return true;
@@ -182,6 +196,14 @@ bool SlamDriver::save(const fs::path& dir, std::string* message) {
   return true;
 }
 
+void SlamDriver::save_final_map() {
+  try {
+    system_->system->save_map(params_.output_dir / "map.lrdmap");
+  } catch (const std::exception& e) {
+    log_.error(std::string("final map not written (the last autosave stays): ") + e.what());
+  }
+}
+
 void SlamDriver::save_occupancy(const fs::path& dir) {
   const System& system = *system_->system;
   if (!system.occupancy_enabled()) return;
@@ -241,7 +263,8 @@ void SlamDriver::stop() {
   const NodeCounts c = counts();
   std::string saved = "no frames tracked";
   std::size_t loops = 0;
-  std::exception_ptr error;  // a worker thread's, rethrown once everything is written
+  std::exception_ptr error;            // a worker thread's, rethrown once everything is written
+  if (autosaver_) autosaver_->stop();  // before the system's threads end
   if (system_) {
     try {
       system_->system->shutdown();
@@ -249,6 +272,7 @@ void SlamDriver::stop() {
       error = std::current_exception();
     }
     save(params_.output_dir, &saved);
+    if (autosaver_) save_final_map();
     loops = system_->system->map_stats().loops;
     save_occupancy(params_.output_dir);
   }

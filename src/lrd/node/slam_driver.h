@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "lrd/autosave/autosaver.h"
 #include "lrd/node/frame_queue.h"
 #include "lrd/node/node_params.h"
 #include "lrd/node/node_system.h"
@@ -26,7 +27,7 @@
 namespace lrd::node {
 
 struct NodeCounts {
-  std::size_t received = 0;       // colour/depth pairs the callback got
+  std::size_t received = 0;       // colour/depth pairs the callbacks got (before the stop)
   std::size_t malformed = 0;      // dropped: a malformed or unusable message (warned)
   std::size_t queue_dropped = 0;  // dropped: tracking was slower than the camera
   std::size_t no_camera = 0;      // dropped: no settings and no camera_info yet
@@ -70,8 +71,8 @@ class SlamDriver {
   void request_reset() { reset_requested_ = true; }
 
   // Tracks what is queued, stops the system's threads, writes CameraTrajectory.txt,
-  // KeyFrameTrajectory.txt, track_times.txt, node_summary.json (and the occupancy maps with the
-  // dense stage) to output_dir. Idempotent.
+  // KeyFrameTrajectory.txt, track_times.txt, node_summary.json (the occupancy maps with the dense
+  // stage, map.lrdmap with autosave) to output_dir. Idempotent.
   void stop();
   [[nodiscard]] bool failed() const { return failed_.load(); }
   [[nodiscard]] NodeCounts counts() const;
@@ -82,6 +83,7 @@ class SlamDriver {
   bool start_system(const NodeFrame& first);
   void report_queue_drops(std::chrono::steady_clock::time_point& last_report, std::size_t& reported);
   void save_occupancy(const std::filesystem::path& dir);
+  void save_final_map();
   void write_summary(const NodeCounts& counts, std::size_t loops) const;
 
   const NodeParams params_;
@@ -95,6 +97,7 @@ class SlamDriver {
 
   mutable std::mutex system_mutex_;  // the system is made by the tracking thread at the first frame
   std::unique_ptr<NodeSystem> system_;
+  std::shared_ptr<autosave::Autosaver> autosaver_;  // with the autosave parameter, beside the system
   std::atomic<bool> reset_requested_{false};
   std::atomic<bool> failed_{false};
   double last_timestamp_ = -1.0;

@@ -168,6 +168,21 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
     j["map_file"]["first_view_frame"] = optional_index(r.localization.first_view_frame);
     j["map_file"]["relocalization_frames"] = optional_index(r.localization.frames());
   }
+  if (r.autosave) {
+    const AutosaveReport& a = *r.autosave;
+    j["autosave"] = {{"period_seconds", a.period_seconds},
+                     {"saves", a.saves},
+                     {"loop_saves", a.loop_saves},
+                     {"failures", a.failures},
+                     {"save_median_ms", a.save_median_ms},
+                     {"save_max_ms", a.save_max_ms},
+                     {"lock_median_ms", a.lock_median_ms},
+                     {"lock_max_ms", a.lock_max_ms},
+                     {"frames_during_saves", a.frames_during_saves},
+                     {"frame_indices_during_saves", a.frame_indices_during_saves},
+                     {"total_median_ms_during_saves", a.total_median_ms_during_saves},
+                     {"total_median_ms_otherwise", a.total_median_ms_otherwise}};
+  }
   j["loops"] = nlohmann::json::array();
   for (const loop::LoopEvent& e : r.loops)
     j["loops"].push_back({{"frame", e.frame_id},

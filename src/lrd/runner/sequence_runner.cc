@@ -12,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
+#include "lrd/autosave/autosaver.h"
 #include "lrd/config/orbslam_settings.h"
 #include "lrd/dynamic/dynamic_params.h"
 #include "lrd/eval/ate.h"
@@ -27,6 +28,7 @@
 #include "lrd/runner/sample_frames.h"
 #include "lrd/segmentation/onnx_presets.h"
 #include "lrd/util/error.h"
+#include "lrd/util/yardstick.h"
 
 namespace lrd::runner {
 
@@ -36,9 +38,11 @@ namespace {
 
 // The frames through the system, as fast as they are tracked (or at the camera's pace).
 // Returns false when interrupted.
+// `during_saves` gets the index of each frame tracked while an autosave was under way.
 bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o, const io::FrameSource& seq,
                   const camera::PinholeCamera& camera, const std::string& camera_source,
-                  std::chrono::steady_clock::time_point wall0) {
+                  std::chrono::steady_clock::time_point wall0, const autosave::Autosaver* autosaver,
+                  std::vector<std::size_t>& during_saves) {
   cv::Mat rgb;
   std::optional<double> first_stamp;
   const auto interrupted = [&o] { return o.interrupt != nullptr && o.interrupt->load(); };
@@ -61,9 +65,42 @@ bool track_frames(System& slam, io::FramePrefetcher& frames, const RunOptions& o
       cv::cvtColor(f->rgb, rgb, cv::COLOR_BGR2RGB);
     else
       rgb = f->rgb;
+    const std::size_t begun = autosaver != nullptr ? autosaver->saves_begun() : 0;
+    const bool saving = autosaver != nullptr && autosaver->saving();
     (void)slam.track_rgbd(rgb, f->depth, f->timestamp);
+    if (autosaver != nullptr && (saving || autosaver->saving() || autosaver->saves_begun() != begun))
+      during_saves.push_back(f->index);
   }
   return false;
+}
+
+AutosaveReport autosave_report(double period, const autosave::AutosaveStats& stats,
+                               const std::vector<FrameLog>& log, std::vector<std::size_t> during_saves) {
+  AutosaveReport r;
+  r.period_seconds = period;
+  r.saves = stats.saves;
+  r.loop_saves = stats.loop_saves;
+  r.failures = stats.failures;
+  const auto ms = [](std::vector<double> seconds) {
+    for (double& v : seconds) v *= 1e3;
+    return seconds;
+  };
+  if (!stats.save_seconds.empty()) {
+    r.save_median_ms = util::median_of(ms(stats.save_seconds));
+    r.save_max_ms = 1e3 * *std::max_element(stats.save_seconds.begin(), stats.save_seconds.end());
+    r.lock_median_ms = util::median_of(ms(stats.lock_seconds));
+    r.lock_max_ms = 1e3 * *std::max_element(stats.lock_seconds.begin(), stats.lock_seconds.end());
+  }
+  std::sort(during_saves.begin(), during_saves.end());
+  std::vector<double> during, otherwise;
+  for (const FrameLog& f : log)
+    (std::binary_search(during_saves.begin(), during_saves.end(), f.index) ? during : otherwise)
+        .push_back(1e3 * f.timing.total());
+  r.frames_during_saves = during.size();
+  r.frame_indices_during_saves = std::move(during_saves);
+  if (!during.empty()) r.total_median_ms_during_saves = util::median_of(during);
+  if (!otherwise.empty()) r.total_median_ms_otherwise = util::median_of(otherwise);
+  return r;
 }
 
 // Trajectories, ATE/RPE against the sequence's ground truth, the dense map, summary.json.
@@ -125,6 +162,11 @@ RunReport run_sequence(const RunOptions& options) {
   const SystemParams params = configure_system(o, cfg);
   if (o.localization_only && !o.load_map)
     throw Error("run: --localization-only needs a map to localize in (--load-map)");
+  if (o.autosave_seconds < 0.0 || (o.autosave_seconds > 0.0 && !o.save_map))
+    throw Error(
+        fmt::format("run: --autosave {} needs a positive number of seconds and --save-map FILE "
+                    "(where the map goes)",
+                    o.autosave_seconds));
   if (o.localization_only && o.save_map)
     throw Error("run: --localization-only leaves the map as loaded: there is nothing new for --save-map");
   const std::shared_ptr<const io::FrameSource> source =
@@ -185,8 +227,19 @@ RunReport run_sequence(const RunOptions& options) {
   report.vocabulary = slam.vocabulary_file().string();
   report.segmentation = slam.segmentation_description();
 
+  std::shared_ptr<autosave::Autosaver> autosaver;
+  if (o.autosave_seconds > 0.0) {
+    autosaver = std::make_shared<autosave::Autosaver>(
+        slam, autosave::AutosaveOptions{o.autosave_seconds, *o.save_map, o.out / "CameraTrajectory.txt"});
+    slam.subscribe(autosaver);
+    autosaver->start();
+  }
+
   // Run.
-  report.interrupted = !track_frames(slam, frames, o, seq, cfg.camera, report.camera_source, wall0);
+  std::vector<std::size_t> during_saves;
+  report.interrupted = !track_frames(slam, frames, o, seq, cfg.camera, report.camera_source, wall0,
+                                     autosaver.get(), during_saves);
+  if (autosaver) autosaver->stop();
   if (report.interrupted) spdlog::warn("interrupted: finishing the queued work and writing the outputs");
   slam.shutdown();
   // A signal while the queued work finished still counts (its handler promised the outputs).
@@ -201,6 +254,8 @@ RunReport run_sequence(const RunOptions& options) {
     report.saved_map = o.save_map;
   }
   if (scorer) report.flags = scorer->score();
+  if (autosaver)
+    report.autosave = autosave_report(o.autosave_seconds, autosaver->stats(), report.log, during_saves);
 
   // Evaluate.
   evaluate(report, slam, o, seq, cfg, params, repairs, loaded_points);

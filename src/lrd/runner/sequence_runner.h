@@ -65,6 +65,10 @@ struct RunOptions {
   std::optional<std::filesystem::path> load_map;
   bool localization_only = false;  // needs load_map
   std::optional<std::filesystem::path> save_map;
+  // > 0 (needs save_map): the map to save_map and the trajectory so far to OUT/CameraTrajectory.txt
+  // every so many seconds and after each loop closure, on a thread of their own
+  // (autosave/autosaver.h): a run killed hard leaves its last complete save.
+  double autosave_seconds = 0.0;
   int flag_eval_stride = 5;  // with ground-truth masks: judge the dynamic flags on every n-th frame
   bool progress = true;      // progress bar on stderr
   // Benchmarks: Y measured in the tracking thread beside each frame's extraction
@@ -166,6 +170,19 @@ struct OccupancyReport {
   std::optional<eval::OccupancyAccuracy> accuracy;  // vs scene.ply (synthetic benchmark)
 };
 
+// The autosaves of a run (RunOptions::autosave_seconds), and what they cost tracking: the frames
+// tracked while a save was under way against the others.
+struct AutosaveReport {
+  double period_seconds = 0.0;
+  std::size_t saves = 0, loop_saves = 0, failures = 0;
+  double save_median_ms = 0.0, save_max_ms = 0.0;  // capture, bytes, both files written and synced
+  double lock_median_ms = 0.0, lock_max_ms = 0.0;  // the map mutex held per save
+  std::size_t frames_during_saves = 0;
+  std::vector<std::size_t> frame_indices_during_saves;  // to compare with the same frames of another run
+  double total_median_ms_during_saves = 0.0;            // FrameTiming::total() of those frames
+  double total_median_ms_otherwise = 0.0;               // and of the other frames
+};
+
 struct RunReport {
   std::filesystem::path out;  // the output folder written
   bool interrupted = false;   // stopped early by RunOptions::interrupt
@@ -204,6 +221,7 @@ struct RunReport {
   eval::ErrorStats ate, rpe_trans, rpe_rot;  // full statistics (m; m/s and deg/s at delta 1 s)
   std::optional<DenseReport> dense;
   std::optional<OccupancyReport> occupancy;
+  std::optional<AutosaveReport> autosave;
 };
 
 // Runs a sequence in three steps: configure (camera, config, SystemParams with the segmenter

@@ -13,11 +13,16 @@
 
 namespace lrd::util {
 
+// One append per value (not a push_back per byte): a map save copies under the map mutex with these.
 inline void put_u32(std::string& s, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  char bytes[4];
+  for (int i = 0; i < 4; ++i) bytes[i] = static_cast<char>((v >> (8 * i)) & 0xff);
+  s.append(bytes, 4);
 }
 inline void put_u64(std::string& s, std::uint64_t v) {
-  for (int i = 0; i < 8; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  char bytes[8];
+  for (int i = 0; i < 8; ++i) bytes[i] = static_cast<char>((v >> (8 * i)) & 0xff);
+  s.append(bytes, 8);
 }
 inline void put_i32(std::string& s, std::int32_t v) {
   put_u32(s, static_cast<std::uint32_t>(v));
