@@ -73,14 +73,6 @@ struct MapStats {
   int rejected_loops = 0;  // detected but contradicted by the map (loop/loop_agreement.h)
 };
 
-// Where the time of one save_map() went.
-struct MapSaveTiming {
-  double lock_seconds = 0.0;       // the map mutex held: what tracking may have waited
-  double serialize_seconds = 0.0;  // the bytes built from the copy
-  double write_seconds = 0.0;      // written and synced
-  std::size_t bytes = 0;
-};
-
 // A map save in two steps (System::capture_map): what can change in the map was copied under its
 // mutex; serialize() builds the file's bytes, in any thread, from the copy and the keyframes'
 // features, which never change. While it lives, keyframes culled since the copy are not freed:
@@ -145,8 +137,8 @@ class System {
   // --- map files (map/map_file.h, issue 20)
   // Writes the map as it is now (after shutdown(): the final one) to `file` (.lrdmap), whole or
   // not at all; any thread, while frames are tracked (tracking waits only while the map's
-  // changing parts are copied: MapSaveTiming::lock_seconds). Throws lrd::Error naming the file.
-  MapSaveTiming save_map(const std::filesystem::path& file) const;
+  // changing parts are copied: capture_map). Throws lrd::Error naming the file.
+  void save_map(const std::filesystem::path& file) const;
   // save_map's first step, for a saver that builds and writes the bytes at its own pace (on a
   // thread of low priority): any thread, while frames are tracked. Throws lrd::Error without a
   // vocabulary.

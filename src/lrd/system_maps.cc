@@ -69,24 +69,15 @@ PendingMapSave System::capture_map() const {
   return PendingMapSave(std::move(state), lock_seconds);
 }
 
-MapSaveTiming System::save_map(const std::filesystem::path& file) const {
+void System::save_map(const std::filesystem::path& file) const {
   if (!impl_->vocabulary)
     throw file_error(file, "no vocabulary is loaded: a map saved without one could never be relocalized in");
-  using Clock = std::chrono::steady_clock;
-  MapSaveTiming timing;
   std::string bytes;
   {
     const PendingMapSave pending = capture_map();
-    const auto t0 = Clock::now();
     bytes = pending.serialize();
-    timing.lock_seconds = pending.lock_seconds();
-    timing.serialize_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   }
-  const auto t1 = Clock::now();
   util::write_file_bytes(file, bytes);
-  timing.write_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
-  timing.bytes = bytes.size();
-  return timing;
 }
 
 void System::load_map(const std::filesystem::path& file) {

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 #include "lrd/util/binary_io.h"
@@ -104,6 +105,7 @@ void Autosaver::save(bool after_loop) {
   const auto t0 = Clock::now();
   double lock_seconds = 0.0;
   Job job;
+  std::optional<std::string> error;  // why the save failed
   try {
     access_([&] {
       const PendingMapSave pending = system_.capture_map();
@@ -121,22 +123,23 @@ void Autosaver::save(bool after_loop) {
     });
     std::unique_lock lock(mutex_);
     job_changed_.wait(lock, [&] { return job.written; });
-    if (!job.error.empty()) throw Error(job.error);
+    if (!job.error.empty()) error = job.error;
   } catch (const std::exception& e) {
-    // A full disk now may be free at the next save; the run goes on either way.
-    spdlog::warn("autosave: {}", e.what());
-    std::lock_guard lock(mutex_);
-    ++stats_.failures;
-    saving_ = false;
-    return;
+    error = e.what();
   }
+  // A full disk now may be free at the next save; the run goes on either way.
+  if (error) spdlog::warn("autosave: {}", *error);
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   std::lock_guard lock(mutex_);
+  saving_ = false;
+  if (error) {
+    ++stats_.failures;
+    return;
+  }
   ++stats_.saves;
   if (after_loop) ++stats_.loop_saves;
   stats_.save_seconds.push_back(seconds);
   stats_.lock_seconds.push_back(lock_seconds);
-  saving_ = false;
 }
 
 void Autosaver::write() {

@@ -81,16 +81,14 @@ AutosaveReport autosave_report(double period, const autosave::AutosaveStats& sta
   r.saves = stats.saves;
   r.loop_saves = stats.loop_saves;
   r.failures = stats.failures;
-  const auto ms = [](std::vector<double> seconds) {
-    for (double& v : seconds) v *= 1e3;
-    return seconds;
+  // Median and maximum, ms (both 0 without saves).
+  const auto summarize = [](const std::vector<double>& seconds, double& median_ms, double& max_ms) {
+    if (seconds.empty()) return;
+    median_ms = 1e3 * util::median_of(seconds);
+    max_ms = 1e3 * *std::max_element(seconds.begin(), seconds.end());
   };
-  if (!stats.save_seconds.empty()) {
-    r.save_median_ms = util::median_of(ms(stats.save_seconds));
-    r.save_max_ms = 1e3 * *std::max_element(stats.save_seconds.begin(), stats.save_seconds.end());
-    r.lock_median_ms = util::median_of(ms(stats.lock_seconds));
-    r.lock_max_ms = 1e3 * *std::max_element(stats.lock_seconds.begin(), stats.lock_seconds.end());
-  }
+  summarize(stats.save_seconds, r.save_median_ms, r.save_max_ms);
+  summarize(stats.lock_seconds, r.lock_median_ms, r.lock_max_ms);
   std::sort(during_saves.begin(), during_saves.end());
   std::vector<double> during, otherwise;
   for (const FrameLog& f : log)
