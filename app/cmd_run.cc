@@ -138,12 +138,14 @@ void print_report(const runner::RunReport& r) {
         "frames, %zu frames without a mask\n",
         r.segmentation_time.median_ms, r.mask_wait.median_ms, r.geometry.median_ms, r.mean_mask_age,
         r.frames_without_mask);
-  if (r.flags)
+  if (r.flags) {
+    const auto& f = *r.flags;
+    std::string classes;
+    if (f.moved_object > 0) classes += fmt::format("  (moved objects: {:.3f})", f.moved_object_recall());
+    if (f.balloon > 0) classes += fmt::format("  (balloons: {:.3f})", f.balloon_recall());
     std::printf("dynamic keypoint flags vs ground-truth masks (%zu frames): precision %.3f  recall %.3f%s\n",
-                r.flags->frames, r.flags->precision(), r.flags->recall(),
-                r.flags->moved_object > 0
-                    ? fmt::format("  (moved objects: {:.3f})", r.flags->moved_object_recall()).c_str()
-                    : "");
+                f.frames, f.precision(), f.recall(), classes.c_str());
+  }
   std::printf("throughput with I/O: %.1f frames/s (decoding %.1f s on its own thread, %.1f s waited for)\n",
               r.wall_seconds > 0 ? static_cast<double>(r.frames) / r.wall_seconds : 0.0, r.decode_seconds,
               r.io_wait_seconds);

@@ -23,9 +23,10 @@ void print_motion(const synth::SyntheticSequence& seq) {
   const auto m = eval::motion_statistics(seq.ground_truth());
   std::printf("camera motion (TUM's 1-s windows): %.2f s, %.3f m, mean %.3f m/s and %.2f deg/s\n", m.duration,
               m.length, m.mean_speed, m.mean_angular_speed);
-  if (const auto tum = synth::tum_fr3_motion(seq.spec().name))
-    std::printf("TUM's fr3/%s (dataset page): mean %.3f m/s and %.2f deg/s\n", seq.spec().name.c_str(),
-                tum->mean_speed, tum->mean_angular_speed);
+  const synth::PresetSpec& spec = seq.spec();
+  if (const auto tum = synth::motion_target(spec))
+    std::printf("TUM's fr3/%s (dataset page): mean %.3f m/s and %.2f deg/s\n",
+                synth::motion_model(spec).c_str(), tum->mean_speed, tum->mean_angular_speed);
 }
 
 }  // namespace

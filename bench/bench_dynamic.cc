@@ -170,7 +170,8 @@ int main(int argc, char** argv) {
   js["frames"] = frames;
   js["presets"] = presets;
   js["modes"] = modes;
-  md << "\n### Dynamic keypoint flags vs ground-truth masks (precision / recall; moved objects: recall)\n\n"
+  md << "\n### Dynamic keypoint flags vs ground-truth masks (precision / recall; recall on moved objects "
+        "(boxes, chairs) and balloons)\n\n"
         "| sequence |";
   non_static_header();
   for (const auto& p : presets) {
@@ -183,8 +184,9 @@ int main(int argc, char** argv) {
         continue;
       }
       const auto& f = *it->second.report.flags;
-      md << fmt::format(" {:.3f} / {:.3f}{} |", f.precision(), f.recall(),
-                        f.moved_object > 0 ? fmt::format("; {:.3f}", f.moved_object_recall()) : "");
+      md << fmt::format(" {:.3f} / {:.3f}{}{} |", f.precision(), f.recall(),
+                        f.moved_object > 0 ? fmt::format("; boxes {:.3f}", f.moved_object_recall()) : "",
+                        f.balloon > 0 ? fmt::format("; balloon {:.3f}", f.balloon_recall()) : "");
     }
     md << "\n";
   }
@@ -211,7 +213,9 @@ int main(int argc, char** argv) {
     if (r.flags)
       j["flags"] = {{"precision", r.flags->precision()},
                     {"recall", r.flags->recall()},
-                    {"moved_object_recall", r.flags->moved_object_recall()}};
+                    {"person_recall", r.flags->person_recall()},
+                    {"moved_object_recall", r.flags->moved_object_recall()},
+                    {"balloon_recall", r.flags->balloon_recall()}};
     const auto base = cells.find(c.preset + "/static");
     if (base != cells.end() && c.mode != "static" && r.has_ground_truth)
       j["eta_percent"] = {

@@ -98,8 +98,8 @@ segmentation::SegmentationParams segmenter_preset(const std::string& name, const
                   " reads the synthetic sequence folder's mask/; this source has none");
     p.backend = Backend::Masks;
     p.masks.folder = sequence / "mask";
-    // Synthetic mask values: 1 person, 2 moved object (sequence.json "mask_values").
-    p.masks.dynamic_values = name == "gt-masks" ? std::vector<int>{1} : std::vector<int>{1, 2};
+    // Synthetic mask values: 1 person, 2 moved object, 3 balloon (sequence.json "mask_values").
+    p.masks.dynamic_values = name == "gt-masks" ? std::vector<int>{1} : std::vector<int>{1, 2, 3};
   } else if (segmentation::is_onnx_preset(name)) {
     p.backend = Backend::Onnx;
     p.onnx = segmentation::onnx_preset(name, model);

@@ -61,10 +61,14 @@ void FlagScorer::on_frame(const events::FrameTracked& e) {
       (flagged ? score_.true_positive : score_.false_negative)++;
     else
       (flagged ? score_.false_positive : score_.true_negative)++;
-    if (t == 2) {
-      ++score_.moved_object;
-      score_.moved_object_flagged += flagged ? 1 : 0;
-    }
+    // Mask values: 1 person, 2 moved object, 3 balloon (synth::MaskLabel).
+    const auto count = [&](std::size_t& on, std::size_t& caught) {
+      ++on;
+      caught += flagged ? 1 : 0;
+    };
+    if (t == 1) count(score_.person, score_.person_flagged);
+    if (t == 2) count(score_.moved_object, score_.moved_object_flagged);
+    if (t == 3) count(score_.balloon, score_.balloon_flagged);
   }
   per_frame_.push_back({index, score_.true_positive - before.true_positive,
                         score_.false_positive - before.false_positive,

@@ -22,9 +22,19 @@ double FlagScore::recall() const {
   const std::size_t dynamic = true_positive + false_negative;
   return dynamic == 0 ? 0.0 : static_cast<double>(true_positive) / static_cast<double>(dynamic);
 }
+namespace {
+double share(std::size_t part, std::size_t whole) {
+  return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
+}
+}  // namespace
+double FlagScore::person_recall() const {
+  return share(person_flagged, person);
+}
 double FlagScore::moved_object_recall() const {
-  return moved_object == 0 ? 0.0
-                           : static_cast<double>(moved_object_flagged) / static_cast<double>(moved_object);
+  return share(moved_object_flagged, moved_object);
+}
+double FlagScore::balloon_recall() const {
+  return share(balloon_flagged, balloon);
 }
 
 namespace {
@@ -213,8 +223,12 @@ void write_summary_json(const fs::path& file, const RunReport& r) {
                           {"true_positive", r.flags->true_positive},
                           {"false_positive", r.flags->false_positive},
                           {"false_negative", r.flags->false_negative},
+                          {"person_keypoints", r.flags->person},
+                          {"person_recall", r.flags->person_recall()},
                           {"moved_object_keypoints", r.flags->moved_object},
-                          {"moved_object_recall", r.flags->moved_object_recall()}};
+                          {"moved_object_recall", r.flags->moved_object_recall()},
+                          {"balloon_keypoints", r.flags->balloon},
+                          {"balloon_recall", r.flags->balloon_recall()}};
   }
   if (r.dense) {
     const DenseReport& d = *r.dense;

@@ -98,7 +98,7 @@ struct RunOptions {
 //   none          no segmentation
 //   gt-masks      the synthetic benchmark's ground truth, people only (what a semantic network
 //                 can know: a pushed chair is still a chair) — the upper bound for the network
-//   gt-masks-all  ground truth of everything that moves (people and moved objects)
+//   gt-masks-all  ground truth of everything that moves (people, moved objects, balloons)
 //   fnet, selfie, selfie-landscape, espnetv2-voc
 //                 the onnx presets (segmentation/onnx_presets.h); `model` overrides their file
 // Throws lrd::Error for an unknown name.
@@ -131,10 +131,15 @@ struct FrameLog {
 struct FlagScore {
   std::size_t frames = 0;
   std::size_t true_positive = 0, false_positive = 0, false_negative = 0, true_negative = 0;
-  std::size_t moved_object = 0, moved_object_flagged = 0;  // keypoints on moved (non-person) objects
+  // Per class of what moves (the mask's values): keypoints on it, and how many were flagged.
+  std::size_t person = 0, person_flagged = 0;
+  std::size_t moved_object = 0, moved_object_flagged = 0;  // pushed chairs, carried boxes
+  std::size_t balloon = 0, balloon_flagged = 0;
   [[nodiscard]] double precision() const;
   [[nodiscard]] double recall() const;
+  [[nodiscard]] double person_recall() const;
   [[nodiscard]] double moved_object_recall() const;
+  [[nodiscard]] double balloon_recall() const;
 };
 
 // One scored frame's dynamic flags (FlagScorer), for the report's precision and recall over time.

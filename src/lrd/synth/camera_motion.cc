@@ -172,6 +172,17 @@ Eigen::Isometry3d CameraMotion::smooth_pose_at(double t) const {
       const Eigen::Vector3d q = p + 2.0 * radial + Eigen::Vector3d(0, 0, -0.35);
       return look_at(p + tp, q, ta.x(), ta.y(), ta.z());
     }
+    case MotionKind::kFollow: {
+      // Held at eye height by someone walking the followed person's path kFollowLag seconds behind
+      // them (1-2.5 m as their pace varies), aimed at their shoulders: they stay in the middle of
+      // the image for the whole sequence, as in Bonn's person_tracking.
+      if (!follow_) throw Error("synth: a following camera needs the person it follows");
+      const Eigen::Vector2d behind = follow_(t - kFollowLag).cast<double>();
+      const Eigen::Vector2d ahead = follow_(t).cast<double>();
+      const Eigen::Vector3d p(behind.x(), behind.y(), 1.45);
+      const Eigen::Vector3d q(ahead.x(), ahead.y(), 1.2);
+      return look_at(p + tp, q, ta.x(), ta.y(), ta.z());
+    }
   }
   return Eigen::Isometry3d::Identity();
 }

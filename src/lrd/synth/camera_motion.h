@@ -3,14 +3,16 @@
 // along x/y/z, rotating in roll/pitch/yaw, moving on a half sphere, and circling the room twice;
 // and the long presets' laps of the room for as long as the sequence lasts (kTour: radius and
 // height drifting; kCircle: the same circle every lap).
+// kFollow walks behind a person, looking at them (Bonn's person_tracking).
 // Every pose is a smooth function of time plus a small hand-held tremor.
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <functional>
 
 namespace lrd::synth {
 
-enum class MotionKind { kStill, kXyz, kRpy, kHalfsphere, kLoop, kTour, kCircle };
+enum class MotionKind { kStill, kXyz, kRpy, kHalfsphere, kLoop, kTour, kCircle, kFollow };
 
 // How the realism profile's hand-held camera departs from a preset's smooth path (issue 21;
 // synth/motion_matching.h sizes it for each preset). The defaults are the smooth path itself.
@@ -37,6 +39,11 @@ class CameraMotion {
   // kHalfsphere): the path is scaled about it.
   void set_hand_held(const HandHeldMotion& motion) { hand_held_ = motion; }
   [[nodiscard]] const HandHeldMotion& hand_held() const { return hand_held_; }
+  // kFollow: where the followed person stands (floor, world) at time t. The camera is carried
+  // along their path kFollowLag seconds behind them, looking at their back.
+  using FollowTarget = std::function<Eigen::Vector2f(double)>;
+  void set_follow(FollowTarget target) { follow_ = std::move(target); }
+  static constexpr double kFollowLag = 1.9;
 
   // Pose at `position` looking at `target`, world z up, then rotated by yaw/pitch/roll in the
   // camera frame.
@@ -56,6 +63,7 @@ class CameraMotion {
   std::array<double, 12> phase_{};
   HandHeldMotion hand_held_;
   std::array<double, 12> sway_phase_{};  // drawn apart from phase_: the smooth paths stay as they were
+  FollowTarget follow_;
 };
 
 }  // namespace lrd::synth

@@ -1,8 +1,12 @@
 #include "lrd/synth/presets.h"
 
 #include <cmath>
+#include <map>
 
 #include "lrd/synth/approaching_actor.h"
+#include "lrd/synth/balloon_actor.h"
+#include "lrd/synth/box_mover_actor.h"
+#include "lrd/synth/jumping_actor.h"
 #include "lrd/synth/motion_matching.h"
 #include "lrd/synth/portable_random.h"
 #include "lrd/synth/room_scene.h"
@@ -82,6 +86,31 @@ const std::vector<PresetSpec>& preset_specs() {
        "walking_long's people while the camera circles the room on the same 0.65 m circle for 36 laps "
        "(12 min): a map that should stop growing after the first laps",
        true},
+      // Bonn RGB-D Dynamic's situations (Palazzolo et al., IROS 2019), about as long as its sequences.
+      {"crowd", 900, MotionKind::kXyz, Cast::kCrowd,
+       "Bonn crowd: five people cross the view in different directions, 1.1-3 m from the camera, "
+       "together covering up to ~60 % of it; hand-held camera translates",
+       true},
+      {"person_tracking", 900, MotionKind::kFollow, Cast::kFollowed,
+       "Bonn person_tracking: the camera is carried 1-2.5 m behind one person walking round the room and "
+       "keeps them in the middle of the image for the whole sequence",
+       true},
+      {"moving_box", 900, MotionKind::kXyz, Cast::kBoxBeside,
+       "Bonn moving_nonobstructing_box: a person carries a box across the room in front of the desk, puts "
+       "it down, walks away, later carries it back; hand-held camera translates",
+       true},
+      {"moving_box_obstructing", 900, MotionKind::kStill, Cast::kBoxInFront,
+       "Bonn moving_obstructing_box: a person carries a box across the view 0.8 m in front of the camera, "
+       "hiding most of the room while it passes; hand-held camera nearly still",
+       true},
+      {"balloon", 600, MotionKind::kXyz, Cast::kBalloon,
+       "Bonn balloon: two people throw a printed balloon to each other across the view (no class a "
+       "segmentation network knows); hand-held camera translates",
+       true},
+      {"synchronous", 600, MotionKind::kStill, Cast::kJumpers,
+       "Bonn synchronous: three people jump on the spot in step, in sets of five; hand-held camera nearly "
+       "still",
+       true},
   };
   return specs;
 }
@@ -95,12 +124,29 @@ const PresetSpec& find_preset(const std::string& name) {
   throw Error("unknown synthetic preset '" + name + "' (valid: " + names + ")");
 }
 
+std::string motion_model(const PresetSpec& spec) {
+  static const std::map<std::string, std::string> bonn = {{"crowd", "walking_xyz"},
+                                                          {"moving_box", "walking_xyz"},
+                                                          {"moving_box_obstructing", "walking_static"},
+                                                          {"balloon", "walking_xyz"},
+                                                          {"synchronous", "walking_static"}};
+  if (tum_fr3_motion(spec.name)) return spec.name;
+  const auto it = bonn.find(spec.name);
+  return it == bonn.end() ? std::string() : it->second;
+}
+
+std::optional<MotionTarget> motion_target(const PresetSpec& spec) {
+  const std::string model = motion_model(spec);
+  if (model.empty()) return std::nullopt;
+  return tum_fr3_motion(model);
+}
+
 SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex, std::uint64_t seed,
                                double fps, int session, bool hand_held) {
   SceneScript script;
   const double duration = spec.default_frames / fps;
   script.camera = std::make_unique<CameraMotion>(spec.motion, duration, seed, session);
-  const auto target = tum_fr3_motion(spec.name);
+  const auto target = motion_target(spec);
   if (hand_held && target) {
     // Sized on session 1's path, so that every session moves alike.
     const CameraMotion first(spec.motion, duration, seed, 1);
@@ -127,9 +173,83 @@ SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex
     script.actors.push_back(std::make_unique<WalkingActor>(w, random_look(tex, d, index), tex,
                                                            "person " + std::to_string(index + 1)));
   };
+  auto person = [&](int index) { return random_look(tex, d, index); };
   switch (spec.cast) {
     case Cast::kNobody:
       break;
+    case Cast::kCrowd:
+      // Two cross 1.1-1.8 m from the camera in opposite directions, one walks round the
+      // desk, one diagonally away and back, one towards the camera and back.
+      walker({P(3.3f, 0.8f), P(3.3f, 4.2f), P(3.55f, 4.2f), P(3.55f, 0.8f)}, 0.0f, CarriedProp::kNone, 0,
+             0.9f);
+      walker({P(3.95f, 4.2f), P(3.95f, 0.8f), P(3.75f, 0.8f), P(3.75f, 4.2f)}, 0.5f, CarriedProp::kNone, 1,
+             0.8f);
+      walker(around_desk, 0.3f, CarriedProp::kNone, 2, 0.85f);
+      walker({P(3.2f, 1.2f), P(4.0f, 3.9f), P(3.85f, 4.1f), P(3.05f, 1.4f)}, 0.2f, CarriedProp::kNone, 3,
+             0.8f);
+      walker({P(4.0f, 2.1f), P(3.6f, 2.75f), P(3.7f, 2.9f), P(4.05f, 2.3f)}, 0.7f, CarriedProp::kNone, 4,
+             0.7f);
+      break;
+    case Cast::kFollowed: {
+      // One person walks round the room; the camera follows them (MotionKind::kFollow).
+      WalkingParams w;
+      w.waypoints = room_loop;
+      w.speed = 0.8f * d.uniform(0.95f, 1.05f);
+      w.speed_variation = 0.3f;
+      w.phase = d.uniform(0.0f, 6.283f);
+      w.start = 0.35f * ClosedPath(room_loop).length();
+      auto followed = std::make_unique<WalkingActor>(w, person(0), tex, "person 1");
+      const WalkingActor* target = followed.get();
+      script.camera->set_follow([target](double t) { return target->floor_position(t); });
+      script.actors.push_back(std::move(followed));
+      break;
+    }
+    case Cast::kBoxBeside:
+    case Cast::kBoxInFront: {
+      // The box rests at one end of a line across the view, is carried to the other end, rests,
+      // and is carried back: in front of the desk 1.7 m from the camera (beside its view of the
+      // room), or 0.85 m from it (hiding most of the room while it passes).
+      const bool in_front = spec.cast == Cast::kBoxInFront;
+      BoxMoveParams b;
+      b.home = in_front ? P(3.45f, 0.7f) : P(3.2f, 0.6f);
+      b.spot_a = in_front ? P(3.05f, 1.75f) : P(3.85f, 1.55f);
+      b.spot_b = in_front ? P(3.05f, 3.25f) : P(3.85f, 3.45f);
+      b.speed = 0.75f * d.uniform(0.9f, 1.1f);
+      b.wait = d.uniform(2.5, 3.5);
+      b.start = d.uniform(0.0, 1.0);
+      b.phase = d.uniform(0.0f, 6.283f);
+      script.actors.push_back(std::make_unique<BoxMoverActor>(b, person(0), tex, "person 1"));
+      break;
+    }
+    case Cast::kBalloon: {
+      BalloonParams b;
+      b.first = P(3.95f, 1.6f);
+      b.second = P(3.95f, 3.4f);
+      b.flight = d.uniform(1.4, 1.8);
+      b.hold = d.uniform(0.5, 0.8);
+      b.start = d.uniform(0.0, 2.0);
+      b.phase = d.uniform(0.0f, 6.283f);
+      const Appearance first = person(0);
+      script.actors.push_back(std::make_unique<BalloonActor>(b, first, person(1), tex, "persons 1 and 2"));
+      break;
+    }
+    case Cast::kJumpers: {
+      // In step: the same cycle and start for all three, facing the camera.
+      const double start = d.uniform(0.0, 1.0);
+      const std::vector<P> spots = {P(3.7f, 1.75f), P(4.0f, 2.5f), P(3.7f, 3.25f)};
+      for (std::size_t i = 0; i < spots.size(); ++i) {
+        JumpParams j;
+        j.spot = spots[i];
+        j.yaw = static_cast<float>(M_PI) + d.uniform(-0.2f, 0.2f);
+        j.height = d.uniform(0.16f, 0.24f);
+        j.start = start;
+        j.phase = d.uniform(0.0f, 6.283f);
+        const int idx = static_cast<int>(i);
+        script.actors.push_back(
+            std::make_unique<JumpingActor>(j, person(idx), "person " + std::to_string(idx + 1)));
+      }
+      break;
+    }
     case Cast::kWalkers:
       walker(around_desk, 0.0f, CarriedProp::kNone, 0, 0.9f);
       walker(front_loop, 0.45f, CarriedProp::kNone, 1, 0.8f);

@@ -1,12 +1,15 @@
 #pragma once
-// The synthetic benchmark's presets, mirroring TUM RGB-D fr3's dynamic sequences. Their names
-// are an interface: later issues, benchmarks and tests refer to them.
+// The synthetic benchmark's presets, mirroring TUM RGB-D fr3's dynamic sequences and the
+// situations of Bonn RGB-D Dynamic's (crowds, a followed person, carried boxes, a balloon, people
+// jumping in step). Their names are an interface: benchmarks, sweeps and tests refer to them.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "lrd/synth/actor.h"
 #include "lrd/synth/camera_motion.h"
+#include "lrd/synth/motion_matching.h"
 #include "lrd/synth/texture_library.h"
 
 namespace lrd::synth {
@@ -19,7 +22,13 @@ enum class Cast {
   kLoopWalkers,
   kTourWalkers,
   kSitStandUp,
-  kCloseAndCut
+  kCloseAndCut,
+  kCrowd,
+  kFollowed,
+  kBoxBeside,
+  kBoxInFront,
+  kBalloon,
+  kJumpers
 };
 
 struct PresetSpec {
@@ -36,6 +45,13 @@ struct PresetSpec {
 [[nodiscard]] const std::vector<PresetSpec>& preset_specs();
 // Throws lrd::Error listing the valid names.
 [[nodiscard]] const PresetSpec& find_preset(const std::string& name);
+// The TUM fr3 sequence whose hand-held statistics the realism profile gives this preset's camera:
+// the one it mirrors, or for the Bonn-style presets standing where the walking presets' camera
+// stands, TUM's hand-held walking_xyz or walking_static (Bonn publishes no velocity statistics);
+// empty for the others.
+[[nodiscard]] std::string motion_model(const PresetSpec& spec);
+// That sequence's published mean speeds (tum_fr3_motion), if there is one.
+[[nodiscard]] std::optional<MotionTarget> motion_target(const PresetSpec& spec);
 
 // Everything that moves in a preset, for a given seed.
 struct SceneScript {

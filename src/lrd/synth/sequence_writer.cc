@@ -146,10 +146,12 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
                                         {"length_m", m.length},
                                         {"mean_speed_m_s", m.mean_speed},
                                         {"mean_angular_speed_deg_s", m.mean_angular_speed}};
-    if (const auto target = tum_fr3_motion(seq.spec().name)) {
+    if (const auto target = motion_target(seq.spec())) {
       const HandHeldMotion& h = seq.camera_motion().hand_held();
       meta["realism"]["camera_motion"]["tum_fr3"] = {
-          {"mean_speed_m_s", target->mean_speed}, {"mean_angular_speed_deg_s", target->mean_angular_speed}};
+          {"sequence", motion_model(seq.spec())},
+          {"mean_speed_m_s", target->mean_speed},
+          {"mean_angular_speed_deg_s", target->mean_angular_speed}};
       meta["realism"]["camera_motion"]["hand_held"] = {{"path_scale", h.path_scale},
                                                        {"translation_sway_m", h.translation_sway},
                                                        {"rotation_sway_rad", h.rotation_sway}};
@@ -166,7 +168,7 @@ SynthSummary write_sequence(const SyntheticSequence& seq, const fs::path& out,
                     {"width", seq.camera().width},
                     {"height", seq.camera().height},
                     {"depth_map_factor", seq.camera().depth_map_factor}};
-  meta["mask_values"] = {{"static", 0}, {"person", 1}, {"moved_object", 2}};
+  meta["mask_values"] = {{"static", 0}, {"person", 1}, {"moved_object", 2}, {"balloon", 3}};
   meta["actors"] = seq.actor_descriptions();
   meta["texture_photos"] = seq.textures().photo_sources();
   meta["missing_texture_photos"] = seq.textures().missing_photos();

@@ -65,6 +65,8 @@ TextureLibrary::TextureLibrary(std::uint64_t seed) {
   add("cardboard", p::cardboard(256, seed + 117));
   add("metal", p::carpet(128, cv::Scalar(150, 150, 150), seed + 118));
   add("shoe", p::carpet(64, cv::Scalar(30, 30, 30), seed + 119));
+  // A printed party balloon (balloon preset); added last, so every other texture keeps its id.
+  add("balloon", p::stripes(256, cv::Scalar(50, 40, 215), cv::Scalar(40, 205, 235), seed + 120));
 }
 
 TextureId TextureLibrary::add(const std::string& name, const cv::Mat& image) {

@@ -10,8 +10,9 @@
 
 namespace lrd::synth {
 
-// What the ground-truth mask says of a surface (mask/*.png values).
-enum class MaskLabel : std::uint8_t { kStatic = 0, kPerson = 1, kMovedObject = 2 };
+// What the ground-truth mask says of a surface (mask/*.png values): people; objects moved by
+// people (a pushed chair, a carried box, while they move); a thrown balloon.
+enum class MaskLabel : std::uint8_t { kStatic = 0, kPerson = 1, kMovedObject = 2, kBalloon = 3 };
 
 // Pascal VOC class ids of the surfaces, so the renders can also serve as segmentation data.
 namespace voc {

@@ -51,13 +51,29 @@ BodyPose walk_leg_body(const Eigen::Isometry3f& root, float s, float length, con
 WalkingActor::WalkingActor(WalkingParams params, Appearance look, const TextureLibrary& tex, std::string name)
     : params_(std::move(params)), look_(look), tex_(tex), path_(params_.waypoints), name_(std::move(name)) {}
 
+namespace {
+constexpr float kSpeedOmega = 2.0f * static_cast<float>(M_PI) / 9.0f;  // speed oscillation, 9 s period
+}
+
+float WalkingActor::arc_length(float tf) const {
+  const float w = kSpeedOmega;
+  const float a = params_.speed_variation;
+  // Integral of v (1 + a cos(w t + phase)): keeps the speed positive for a < 1.
+  return params_.start +
+         params_.speed * (tf + a * (std::sin(w * tf + params_.phase) - std::sin(params_.phase)) / w);
+}
+
+Eigen::Vector2f WalkingActor::floor_position(double t) const {
+  Eigen::Vector2f p, h;
+  path_.at(arc_length(static_cast<float>(t)), p, h);
+  return p;
+}
+
 void WalkingActor::add_geometry(double t, TriangleSoup& soup) const {
   const float tf = static_cast<float>(t);
-  const float w = 2.0f * static_cast<float>(M_PI) / 9.0f;  // speed oscillation, 9 s period
+  const float w = kSpeedOmega;
   const float a = params_.speed_variation;
-  // Arc length: integral of v (1 + a cos(w t + phase)) keeps the speed positive for a < 1.
-  const float s = params_.start +
-                  params_.speed * (tf + a * (std::sin(w * tf + params_.phase) - std::sin(params_.phase)) / w);
+  const float s = arc_length(tf);
   Eigen::Vector2f p, h;
   path_.at(s, p, h);
   const float yaw = std::atan2(h.y(), h.x());

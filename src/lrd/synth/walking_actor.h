@@ -36,8 +36,12 @@ class WalkingActor : public Actor {
   WalkingActor(WalkingParams params, Appearance look, const TextureLibrary& tex, std::string name);
   void add_geometry(double t, TriangleSoup& soup) const override;
   [[nodiscard]] std::string describe() const override;
+  // Where the person stands on the floor at time t (a following camera's target).
+  [[nodiscard]] Eigen::Vector2f floor_position(double t) const;
 
  private:
+  // How far along the path they are at time t (seconds from the sequence start).
+  [[nodiscard]] float arc_length(float t) const;
   WalkingParams params_;
   Appearance look_;
   const TextureLibrary& tex_;
