@@ -1,4 +1,4 @@
-"""The Bonn-style presets through `lrdslam run`: on a short prefix of each, `full` with the shipped
+"""The Bonn-style presets through `lrdslam run`: on a 4-s prefix of each, `full` with the shipped
 segmenter loses no frame and stays within 2 cm ATE, and `geometric` alone (no segmentation)
 catches the thrown balloon and the carried box, which no person-class network knows."""
 import json
@@ -8,6 +8,7 @@ import pytest
 from cli import lrdslam, synth_input
 
 PREFIX = 180  # 6 s: the balloon is thrown, the box lifted and carried
+FULL_FRAMES = 120  # what `full` is judged on (CI time under the sanitizers)
 
 
 @pytest.fixture(scope="module")
@@ -32,8 +33,8 @@ def run(seq, out, *extra):
 @pytest.mark.parametrize("preset", ["crowd", "person_tracking", "moving_box", "moving_box_obstructing",
                                     "balloon", "synchronous"])
 def test_full_tracks_every_frame_within_two_centimetres(sequences, tmp_path, preset):
-    s = run(sequences(preset), tmp_path / "full", "--mode", "full")
-    assert s["frames"] == PREFIX
+    s = run(sequences(preset), tmp_path / "full", "--mode", "full", "--max-frames", FULL_FRAMES)
+    assert s["frames"] == FULL_FRAMES
     assert s["lost"] == 0
     assert s["ate"]["rmse"] < 0.02, s["ate"]
     flags = s["dynamic_flags"]

@@ -54,6 +54,9 @@ DynamicParams DynamicParams::from_config(config::NodeReader r) {
   q.min_seeds = g.get("min_seeds", q.min_seeds);
   q.seed_support = g.get("seed_support", q.seed_support);
   g.check(q.seed_support >= 0 && q.seed_support <= 1, "seed_support", "must be in [0, 1]");
+  q.known_surface_px = g.get("known_surface_px", q.known_surface_px);
+  g.check(q.known_surface_px >= 0 && q.known_surface_px <= 64, "known_surface_px",
+          "must be in [0, 64] (0: off)");
   q.grow_step = g.get("grow_step", q.grow_step);
   q.grow_band = g.get("grow_band", q.grow_band);
   q.grow_extent = g.get("grow_extent", q.grow_extent);

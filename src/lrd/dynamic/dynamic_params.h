@@ -34,6 +34,9 @@ struct GeometryCheckParams {
   double neighbourhood_agreement = 0.7;  // share of the patch that must agree that it is closer
   int min_seeds = 3;                     // fewer flagged points around a seed are noise, not an object
   double seed_support = 0.5;             // share of judged points around a seed that must agree
+  // A candidate seed with a keyframe point projected within this many pixels at the depth now
+  // measured lies on static foreground that hides the point (occlusion, not motion); 0: off.
+  int known_surface_px = 8;
   // Region growing (on a half-resolution depth image) from each flagged point.
   double grow_step = 0.03;          // neighbour-to-neighbour depth step (m), + 1 % of depth
   double grow_band = 0.35;          // at most this far in depth from the seed (m)

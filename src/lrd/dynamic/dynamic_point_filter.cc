@@ -30,18 +30,63 @@ Eigen::Vector2d distort(const camera::PinholeCamera& cam, const Eigen::Vector2d&
 
 // A keyframe point carried into the current frame, before the frame's depth is read there.
 struct Projection {
-  Eigen::Vector3d X;  // world
-  double z;           // depth in the current camera
-  int u, v;           // raw (distorted) pixel, `margin` or more inside the image
+  Eigen::Vector3d X;     // world
+  double z;              // depth in the current camera
+  int u, v;              // raw (distorted) pixel, `margin` or more inside the image
+  std::size_t keyframe;  // index into the keyframes compared
+};
+
+// Where the keyframes' points landed in the frame, by 16-pixel cell: what the map knows to be
+// static surface there, and at what depth.
+class KnownSurfaces {
+ public:
+  KnownSurfaces(const std::vector<Projection>& points, cv::Size size)
+      : cols_(size.width / kCell + 1), rows_(size.height / kCell + 1), first_(cell_count() + 1, 0) {
+    // Counting sort by cell: one allocation, points of a cell contiguous.
+    for (const Projection& p : points) ++first_[cell(p.u, p.v) + 1];
+    for (std::size_t c = 1; c < first_.size(); ++c) first_[c] += first_[c - 1];
+    entries_.resize(points.size());
+    std::vector<std::size_t> next(first_.begin(), first_.end() - 1);
+    for (const Projection& p : points) entries_[next[cell(p.u, p.v)]++] = {p.u, p.v, static_cast<float>(p.z)};
+  }
+  // Whether a point of the map lands within `radius` pixels of (u, v) at a depth within
+  // `tolerance` of `z`.
+  [[nodiscard]] bool near(int u, int v, float z, float tolerance, int radius) const {
+    const int cx0 = std::max(0, (u - radius) / kCell), cx1 = std::min(cols_ - 1, (u + radius) / kCell);
+    const int cy0 = std::max(0, (v - radius) / kCell), cy1 = std::min(rows_ - 1, (v + radius) / kCell);
+    for (int cy = cy0; cy <= cy1; ++cy)
+      for (int cx = cx0; cx <= cx1; ++cx) {
+        const auto c = static_cast<std::size_t>(cy * cols_ + cx);
+        for (std::size_t k = first_[c]; k < first_[c + 1]; ++k) {
+          const Entry& e = entries_[k];
+          if (std::abs(e.u - u) <= radius && std::abs(e.v - v) <= radius && std::abs(e.z - z) <= tolerance)
+            return true;
+        }
+      }
+    return false;
+  }
+
+ private:
+  static constexpr int kCell = 16;
+  struct Entry {
+    int u, v;
+    float z;
+  };
+  [[nodiscard]] std::size_t cell_count() const { return static_cast<std::size_t>(cols_ * rows_); }
+  [[nodiscard]] std::size_t cell(int u, int v) const {
+    return static_cast<std::size_t>((v / kCell) * cols_ + u / kCell);
+  }
+  int cols_, rows_;
+  std::vector<std::size_t> first_;
+  std::vector<Entry> entries_;
 };
 
 // The keyframe's points with depth that land in the frame within the depth range. Pure arithmetic,
 // kept apart from the depth reads so that those can be fetched ahead (below).
-void project_points(const map::KeyFrame& kf, const Eigen::Isometry3d& T_cw, const camera::PinholeCamera& cam,
-                    cv::Size size, double max_depth, int margin, std::vector<Projection>& out) {
-  out.clear();
+void project_points(const map::KeyFrame& kf, std::size_t index, const Eigen::Isometry3d& T_cw,
+                    const camera::PinholeCamera& cam, cv::Size size, double max_depth, int margin,
+                    std::vector<Projection>& out) {
   const data::Frame& f = kf.features();
-  out.reserve(f.size());  // one allocation a frame, not one per doubling
   const Eigen::Isometry3d T_w_kf = kf.T_wc();
   for (std::size_t i = 0; i < f.size(); ++i) {
     const float z_kf = f.depth(i);
@@ -54,7 +99,7 @@ void project_points(const map::KeyFrame& kf, const Eigen::Isometry3d& T_cw, cons
     const Eigen::Vector2d uv = distort(cam, cam.project(Xc));
     const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
     if (u < margin || v < margin || u >= size.width - margin || v >= size.height - margin) continue;
-    out.push_back({X, z_proj, u, v});
+    out.push_back({X, z_proj, u, v, index});
   }
 }
 }  // namespace
@@ -140,22 +185,29 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
   const auto keyframes = select_keyframes(T_cw, frame.timestamp(), candidates);
   r.keyframes = static_cast<int>(keyframes.size());
   std::vector<Projection> projected;
+  std::vector<Eigen::Vector3d> kf_centres;
+  std::size_t total = 0;
+  for (const map::KeyFrame* kf : keyframes) total += kf->features().size();
+  projected.reserve(total);  // one allocation a frame, not one per doubling
+  for (const map::KeyFrame* kf : keyframes) {
+    project_points(*kf, kf_centres.size(), T_cw, cam, depth.size(), params_.max_depth, n, projected);
+    kf_centres.push_back(kf->camera_center());
+  }
+  const KnownSurfaces known(projected, depth.size());
   // Points read the depth image at scattered pixels: each one's rows are fetched a few points
   // ahead, as most reads otherwise missed the cache (a third of the check's time).
   constexpr std::size_t kAhead = 8;
-  for (const map::KeyFrame* kf : keyframes) {
-    const Eigen::Vector3d kf_centre = kf->camera_center();
-    project_points(*kf, T_cw, cam, depth.size(), params_.max_depth, n, projected);
+  {
     for (std::size_t j = 0; j < projected.size(); ++j) {
       if (j + kAhead < projected.size()) {
         const Projection& next = projected[j + kAhead];
         for (int dv = -n; dv <= n; ++dv) __builtin_prefetch(depth.ptr<float>(next.v + dv) + next.u);
       }
-      const auto& [X, z_proj, u, v] = projected[j];
+      const auto& [X, z_proj, u, v, kf_index] = projected[j];
       const float z_now = depth.at<float>(v, u);
       if (z_now <= 0.0f) continue;
       // Parallax between the two viewing rays of X (Fig. 5).
-      const Eigen::Vector3d a = (X - kf_centre).normalized(), b = (X - centre).normalized();
+      const Eigen::Vector3d a = (X - kf_centres[kf_index]).normalized(), b = (X - centre).normalized();
       if (a.dot(b) < cos_limit) {
         ++r.parallax_skipped;
         continue;
@@ -174,6 +226,14 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
           closer += (z_proj - d > threshold) ? 1 : 0;
         }
       if (valid == 0 || closer < params_.neighbourhood_agreement * valid) continue;
+      // The map knows a static surface at the depth now measured, right beside the pixel: the
+      // camera moved and static foreground (a monitor's edge, a desk) now hides the point. Nothing
+      // moved there; a moving object stands where the map has no points at its depth.
+      if (params_.known_surface_px > 0 &&
+          known.near(u, v, z_now,
+                     static_cast<float>(params_.depth_threshold + params_.depth_threshold_slope * z_now),
+                     params_.known_surface_px))
+        continue;
       seeds.push_back({static_cast<float>(u), static_cast<float>(v), z_now});
       ++seeds_in[cell_of(u, v)];
     }

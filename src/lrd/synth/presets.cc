@@ -92,8 +92,9 @@ const std::vector<PresetSpec>& preset_specs() {
        "together covering up to ~60 % of it; hand-held camera translates",
        true},
       {"person_tracking", 900, MotionKind::kFollow, Cast::kFollowed,
-       "Bonn person_tracking: the camera is carried 1-2.5 m behind one person walking round the room and "
-       "keeps them in the middle of the image for the whole sequence",
+       "Bonn person_tracking: the camera is carried 1-2.5 m behind one person walking round the middle of "
+       "the "
+       "room and keeps them in the middle of the image for the whole sequence",
        true},
       {"moving_box", 900, MotionKind::kXyz, Cast::kBoxBeside,
        "Bonn moving_nonobstructing_box: a person carries a box across the room in front of the desk, puts "
@@ -191,13 +192,15 @@ SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex
              0.7f);
       break;
     case Cast::kFollowed: {
-      // One person walks round the room; the camera follows them (MotionKind::kFollow).
+      // One person walks a loop round the middle of the room; the camera follows them
+      // (MotionKind::kFollow), seeing the room 1.3-3 m beyond them rather than a wall up close.
+      const std::vector<P> middle_loop = {P(1.75f, 3.5f), P(3.75f, 3.55f), P(3.7f, 1.45f), P(1.8f, 1.5f)};
       WalkingParams w;
-      w.waypoints = room_loop;
+      w.waypoints = middle_loop;
       w.speed = 0.8f * d.uniform(0.95f, 1.05f);
       w.speed_variation = 0.3f;
       w.phase = d.uniform(0.0f, 6.283f);
-      w.start = 0.35f * ClosedPath(room_loop).length();
+      w.start = 0.35f * ClosedPath(middle_loop).length();
       auto followed = std::make_unique<WalkingActor>(w, person(0), tex, "person 1");
       const WalkingActor* target = followed.get();
       script.camera->set_follow([target](double t) { return target->floor_position(t); });
