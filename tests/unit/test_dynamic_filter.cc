@@ -14,6 +14,7 @@
 #include "lrd/dynamic/dynamic_params.h"
 #include "lrd/dynamic/dynamic_point_filter.h"
 #include "lrd/dynamic/mask_propagator.h"
+#include "lrd/map/map.h"
 #include "lrd/util/error.h"
 #include "temp_dir.h"
 #include "textured_plane.h"
@@ -360,6 +361,35 @@ TEST(DynamicPointFilter, StaticForegroundHidingMappedPointsIsNotMotion) {
   EXPECT_GT(appeared.seeds, 50);
   ASSERT_FALSE(appeared.mask.empty());
   EXPECT_GE(share(appeared.mask, view.box), 0.95);
+}
+
+// The pose rests on the frame's inlier map matches; a check flagging most of them is not to be
+// applied, one flagging keypoints without matches (a new object) or few matched ones is.
+TEST(DynamicPointFilter, ACheckFlaggingMostOfThePosesMatchesIsRecognised) {
+  BoxScene scene;
+  lrd::map::Map map;
+  lrd::map::KeyFrame* kf = scene.keyframe(map, 0, 0.0, kf0_pose());
+  const BoxScene::View view = scene.render(current_pose(), false);
+  lrd::data::Frame frame = scene.frame(5, 1.0, view, current_pose());
+  ASSERT_GT(frame.size(), 200u);
+  lrd::map::MapPoint* point = map.create_map_point(Eigen::Vector3d(0.0, 0.0, 2.2), kf, 0);
+  // 100 matched keypoints, 5 of them outliers.
+  for (std::size_t i = 0; i < 100; ++i) frame.map_points[i] = point;
+  for (std::size_t i = 0; i < 5; ++i) frame.outliers[i] = true;
+  const auto flag = [&](std::size_t from, std::size_t to) {
+    std::vector<bool> dynamic(frame.size(), false);
+    for (std::size_t i = from; i < to; ++i) dynamic[i] = true;
+    return dynamic;
+  };
+  using lrd::dynamic::flags_most_pose_matches;
+  EXPECT_FALSE(flags_most_pose_matches(frame, flag(0, 0)));
+  EXPECT_FALSE(flags_most_pose_matches(frame, flag(100, frame.size())));  // none of the matches
+  EXPECT_FALSE(flags_most_pose_matches(frame, flag(0, 52)));              // 47 of 95 inliers: not most
+  EXPECT_TRUE(flags_most_pose_matches(frame, flag(0, 53)));               // 48 of 95
+  EXPECT_TRUE(flags_most_pose_matches(frame, flag(0, frame.size())));
+  // Too few matches to judge by.
+  for (std::size_t i = 30; i < 100; ++i) frame.map_points[i] = nullptr;
+  EXPECT_FALSE(flags_most_pose_matches(frame, flag(0, frame.size())));
 }
 
 TEST(DynamicPointFilter, AnObjectThatLeftIsNotFlagged) {

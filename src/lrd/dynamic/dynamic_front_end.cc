@@ -117,7 +117,21 @@ GeometryStats DynamicFrontEnd::remove_moving_points(data::Frame& f,
     spdlog::debug("frame {}: robust pose {} ({} inliers)", f.id(), T ? "ok" : "failed", inliers);
     if (T) f.set_pose(*T);
   }
-  const GeometryCheckResult r = filter_.check(f, current_depth_, nearby);
+  GeometryCheckResult r = filter_.check(f, current_depth_, nearby);
+  // In full mode the pose the check judged from rests on the frame's matches with a map the
+  // segmentation kept people out of; a check that finds most of them moving contradicts its own
+  // premise (bench/results/bonn.md, person_tracking: static foreground hiding mapped points of a
+  // wall seen at a grazing angle, regions grown along the wall over most of the frame). The
+  // semantic mask still applies. Not in geometric mode: there a person the camera follows is
+  // mapped and matched like the room, and flagging them is right.
+  if (params_.mode == DynamicMode::Full && flags_most_pose_matches(f, r.dynamic)) {
+    spdlog::debug(
+        "frame {}: geometry check found {} keypoints moving, most of the matches the pose rests on: "
+        "not applied",
+        f.id(), r.flagged_keypoints);
+    r = GeometryCheckResult{};
+    r.dynamic.assign(f.size(), false);
+  }
   if (r.flagged_keypoints > 0) f.remove_keypoints(r.dynamic);
   if (!r.mask.empty()) {
     if (f.dynamic_mask.empty()) {

@@ -104,6 +104,18 @@ void project_points(const map::KeyFrame& kf, std::size_t index, const Eigen::Iso
 }
 }  // namespace
 
+bool flags_most_pose_matches(const data::Frame& frame, const std::vector<bool>& dynamic) {
+  constexpr std::size_t kMinMatches = 30;
+  constexpr double kMostShare = 0.5;
+  std::size_t matched = 0, flagged = 0;
+  for (std::size_t i = 0; i < frame.size() && i < dynamic.size(); ++i) {
+    if (frame.map_points[i] == nullptr || frame.outliers[i]) continue;
+    ++matched;
+    flagged += dynamic[i] ? 1 : 0;
+  }
+  return matched >= kMinMatches && static_cast<double>(flagged) > kMostShare * static_cast<double>(matched);
+}
+
 std::vector<map::KeyFrame*> DynamicPointFilter::select_keyframes(
     const Eigen::Isometry3d& T_cw, double timestamp, const std::vector<map::KeyFrame*>& candidates) const {
   const Eigen::Vector3d centre = T_cw.inverse().translation();

@@ -33,6 +33,11 @@ struct GeometryCheckResult {
   int flagged_keypoints = 0;
 };
 
+// Whether `dynamic` (per keypoint of `frame`) takes more than half of the inlier map matches the
+// frame's pose rests on, once there are at least 30 of them. A moving object has few: it was
+// masked, or elsewhere, when the map was built. A check that flags most of them is wrong itself.
+[[nodiscard]] bool flags_most_pose_matches(const data::Frame& frame, const std::vector<bool>& dynamic);
+
 class DynamicPointFilter {
  public:
   explicit DynamicPointFilter(GeometryCheckParams params) : params_(params) {}
