@@ -50,6 +50,24 @@ def test_a_local_sweep_fills_the_tables(swept):
     assert tables == out[out.index("# Sweep"):out.index("wrote ")]
 
 
+def test_sequences_with_ground_truth_masks_get_the_flags_per_class(tmp_path):
+    seq = tmp_path / "balloon"
+    synth_input("--preset", "balloon", "--frames", 120, "--out", seq)
+    d = tmp_path / "sweep"
+    r = lrdslam("sweep", "--out", d, "--sequences", seq, "--modes", "static,geometric", "--deterministic")
+    entries = {e["mode"]: e for e in json.loads((d / "results.json").read_text())["entries"]}
+    run = json.loads((d / "cells" / "balloon__geometric__default__r0" / "result.json").read_text())["summary"]
+    flags = entries["geometric"]
+    assert flags["flag_precision"]["median"] == run["dynamic_flags"]["precision"]
+    assert flags["balloon_recall"]["median"] == run["dynamic_flags"]["balloon_recall"] > 0.5
+    assert flags["balloon_keypoints"]["median"] > 0 and flags["moved_object_keypoints"]["median"] == 0
+    tables = (d / "tables.md").read_text()
+    assert "Dynamic keypoint flags" in tables and "| balloon | geometric |" in tables
+    assert "| balloon | static |" not in tables.split("Dynamic keypoint flags")[1]  # static flags nothing
+    assert "moved objects" not in tables  # no class column the sequences do not show
+    assert tables in r.stdout
+
+
 def test_the_same_command_resumes_only_what_is_missing(swept, tmp_path):
     d, _ = swept
     import shutil

@@ -54,7 +54,16 @@ constexpr Metric kMetrics[] = {{"ate_rmse_m", "ate/rmse"},
                                {"rpe_rot_std_deg_s", "rpe/rot/std"},
                                {"time_per_frame_ms", "per_frame/total/median_ms"},
                                {"time_per_frame_mean_ms", "per_frame/total/mean_ms"},
-                               {"yardstick_ms", "per_frame/yardstick/median_ms"}};
+                               {"yardstick_ms", "per_frame/yardstick/median_ms"},
+                               // Synthetic sequences (ground-truth masks): the dynamic keypoint
+                               // flags, and the recall on each class of what moves.
+                               {"flag_precision", "dynamic_flags/precision"},
+                               {"flag_recall", "dynamic_flags/recall"},
+                               {"person_recall", "dynamic_flags/person_recall"},
+                               {"moved_object_recall", "dynamic_flags/moved_object_recall"},
+                               {"balloon_recall", "dynamic_flags/balloon_recall"},
+                               {"moved_object_keypoints", "dynamic_flags/moved_object_keypoints"},
+                               {"balloon_keypoints", "dynamic_flags/balloon_keypoints"}};
 
 struct Group {
   std::string sequence, mode, variant, version, config_hash;
@@ -201,6 +210,39 @@ std::string spread_table(const Layout& l) {
   return md + "\n";
 }
 
+// The flags of the modes that flag anything, where the runs were scored against ground-truth masks;
+// a class's recall only where the sequences show it (moved objects, balloons).
+std::string flags_table(const Layout& l) {
+  const auto has = [](const json& e, const char* key) { return e.contains(key) && !e[key].is_null(); };
+  const auto shows = [&](const char* count) {
+    return std::any_of(l.at.begin(), l.at.end(),
+                       [&](const std::pair<const std::pair<std::string, std::string>, const json*>& kv) {
+                         return has(*kv.second, count) && (*kv.second)[count]["median"].get<double>() > 0.0;
+                       });
+  };
+  const bool boxes = shows("moved_object_keypoints"), balloons = shows("balloon_keypoints");
+  const auto cell = [&](const json& e, const char* key) {
+    return has(e, key) ? fmt::format("{:.3f}", e[key]["median"].get<double>()) : std::string("—");
+  };
+  std::string rows;
+  for (const std::string& row : l.rows)
+    for (const std::string& m : l.modes) {
+      const auto it = l.at.find({row, m});
+      if (it == l.at.end() || m == "static" || !has(*it->second, "flag_precision")) continue;
+      const json& e = *it->second;
+      rows += fmt::format("| {} | {} | {} | {} | {}{}{} |\n", row, m, cell(e, "flag_precision"),
+                          cell(e, "flag_recall"), cell(e, "person_recall"),
+                          boxes ? " | " + cell(e, "moved_object_recall") : "",
+                          balloons ? " | " + cell(e, "balloon_recall") : "");
+    }
+  if (rows.empty()) return "";
+  return fmt::format(
+      "### Dynamic keypoint flags vs ground-truth masks (median over repeats)\n\n"
+      "| sequence | mode | precision | recall | recall: people{}{} |\n|---|---|---|---|---{}{}|\n{}\n",
+      boxes ? " | moved objects" : "", balloons ? " | balloon" : "", boxes ? "|---" : "",
+      balloons ? "|---" : "", rows);
+}
+
 }  // namespace
 
 SweepTables collect_tables(const fs::path& dir, const std::vector<SweepCell>& cells) {
@@ -249,6 +291,7 @@ SweepTables collect_tables(const fs::path& dir, const std::vector<SweepCell>& ce
       fs::absolute(dir).lexically_normal().string(), cells.size(), t.done, t.failed, t.missing);
   t.markdown += paper_tables(l);
   t.markdown += spread_table(l);
+  t.markdown += flags_table(l);
   for (const json& f : failures)
     t.markdown +=
         fmt::format("- failed: {}: {}\n", f["cell"].get<std::string>(), f["error"].get<std::string>());
