@@ -1,6 +1,6 @@
-// Dynamic scenes without a network: the `dynamic` config section and the multi-view geometry
-// check on a textured plane in front of which a textured box appears (mask propagation and
-// region growing: test_mask_regions.cc).
+// Dynamic scenes without a network: the multi-view geometry check on a textured plane in front of
+// which a textured box appears (the `dynamic` config section: test_dynamic_params.cc; mask
+// propagation and region growing: test_mask_regions.cc).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,20 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "error_of.h"
-#include "lrd/config/config.h"
 #include "lrd/dynamic/depth_region_grower.h"
-#include "lrd/dynamic/dynamic_params.h"
 #include "lrd/dynamic/dynamic_point_filter.h"
 #include "lrd/dynamic/mask_propagator.h"
 #include "lrd/map/map.h"
 #include "lrd/util/error.h"
-#include "temp_dir.h"
 #include "textured_plane.h"
 
-namespace fs = std::filesystem;
-using lrd::dynamic::DynamicMode;
-using lrd::dynamic::DynamicParams;
 using lrd::dynamic::DynamicPointFilter;
 using lrd::dynamic::GeometryCheckParams;
 using lrd::dynamic::RegionGrowParams;
@@ -29,92 +22,12 @@ using lrd::dynamic::RegionSeed;
 
 namespace {
 
-using lrd::test::error_of;
-
 const lrd::camera::PinholeCamera& tum3() {
   static const lrd::camera::PinholeCamera cam = lrd::camera::camera_preset("tum3");
   return cam;
 }
 
 }  // namespace
-
-// --- the `dynamic` config section
-
-TEST(DynamicParams, ModesParseAndPrint) {
-  for (DynamicMode m :
-       {DynamicMode::Static, DynamicMode::Semantic, DynamicMode::Geometric, DynamicMode::Full})
-    EXPECT_EQ(lrd::dynamic::parse_mode(lrd::dynamic::to_string(m)), m);
-  EXPECT_EQ(lrd::dynamic::to_string(DynamicMode::Full), "full");
-  EXPECT_EQ(lrd::dynamic::parse_mode("geometric"), DynamicMode::Geometric);
-  for (const std::string bad : {"Full", "", "semantics", "dynamic"}) {
-    const std::string msg = error_of([&] { (void)lrd::dynamic::parse_mode(bad); });
-    EXPECT_NE(msg.find("'" + bad + "'"), std::string::npos) << msg;
-    for (const char* choice : {"static", "semantic", "geometric", "full"})
-      EXPECT_NE(msg.find(choice), std::string::npos) << msg;
-  }
-  EXPECT_FALSE(lrd::dynamic::uses_segmentation(DynamicMode::Static));
-  EXPECT_FALSE(lrd::dynamic::uses_geometry(DynamicMode::Static));
-  EXPECT_TRUE(lrd::dynamic::uses_segmentation(DynamicMode::Semantic));
-  EXPECT_FALSE(lrd::dynamic::uses_geometry(DynamicMode::Semantic));
-  EXPECT_FALSE(lrd::dynamic::uses_segmentation(DynamicMode::Geometric));
-  EXPECT_TRUE(lrd::dynamic::uses_geometry(DynamicMode::Geometric));
-  EXPECT_TRUE(lrd::dynamic::uses_segmentation(DynamicMode::Full));
-  EXPECT_TRUE(lrd::dynamic::uses_geometry(DynamicMode::Full));
-}
-
-TEST(DynamicParams, FromConfig) {
-  // Defaults from an empty section.
-  const DynamicParams d = DynamicParams::from_config(lrd::config::NodeReader());
-  EXPECT_EQ(d.mode, DynamicMode::Geometric);  // needs no model
-  EXPECT_EQ(d.geometry.keyframes, 5);
-  EXPECT_DOUBLE_EQ(d.geometry.max_parallax_deg, 30.0);
-  EXPECT_DOUBLE_EQ(d.geometry.depth_threshold, 0.10);
-  EXPECT_DOUBLE_EQ(d.geometry.depth_threshold_slope, 0.02);
-  EXPECT_DOUBLE_EQ(d.geometry.max_depth, 6.0);
-  EXPECT_EQ(d.geometry.neighbourhood, 2);
-  EXPECT_DOUBLE_EQ(d.geometry.neighbourhood_agreement, 0.7);
-  EXPECT_EQ(d.geometry.min_seeds, 3);
-  EXPECT_DOUBLE_EQ(d.geometry.grow_band, 0.35);
-  EXPECT_DOUBLE_EQ(d.geometry.min_keyframe_age_s, 0.2);
-  EXPECT_EQ(d.geometry.known_surface_px, 8);
-
-  lrd::test::TempDir tmp("dynamic_config");
-  auto read = [&](const std::string& text) {
-    const fs::path file = tmp.write("config.yaml", text);
-    return DynamicParams::from_config(lrd::config::load_config(file).dynamic);
-  };
-  const DynamicParams p = read(
-      "dynamic:\n  mode: full\n  geometry:\n    keyframes: 3\n    max_parallax_deg: 20\n"
-      "    depth_threshold: 0.2\n    neighbourhood: 1\n    min_seeds: 5\n    grow_extent: 0.5\n"
-      "    min_keyframe_age_s: 0.5\n    known_surface_px: 0\n");
-  EXPECT_EQ(p.mode, DynamicMode::Full);
-  EXPECT_EQ(p.geometry.keyframes, 3);
-  EXPECT_DOUBLE_EQ(p.geometry.max_parallax_deg, 20.0);
-  EXPECT_DOUBLE_EQ(p.geometry.depth_threshold, 0.2);
-  EXPECT_EQ(p.geometry.neighbourhood, 1);
-  EXPECT_EQ(p.geometry.min_seeds, 5);
-  EXPECT_DOUBLE_EQ(p.geometry.grow_extent, 0.5);
-  EXPECT_DOUBLE_EQ(p.geometry.min_keyframe_age_s, 0.5);
-  EXPECT_EQ(p.geometry.known_surface_px, 0);
-  EXPECT_DOUBLE_EQ(p.geometry.grow_step, 0.03);  // untouched: default
-
-  std::string msg = error_of([&] { (void)read("dynamic:\n  mode: fulll\n"); });
-  EXPECT_NE(msg.find("dynamic.mode"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("fulll"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("config.yaml:2"), std::string::npos) << msg;
-  msg = error_of([&] { (void)read("dynamic:\n  geometry:\n    keyframe: 3\n"); });
-  EXPECT_NE(msg.find("dynamic.geometry.keyframe"), std::string::npos) << msg;
-  msg = error_of([&] { (void)read("dynamic:\n  mod: full\n"); });
-  EXPECT_NE(msg.find("dynamic.mod"), std::string::npos) << msg;
-  msg = error_of([&] { (void)read("dynamic:\n  geometry:\n    keyframes: 0\n"); });
-  EXPECT_NE(msg.find("dynamic.geometry.keyframes"), std::string::npos) << msg;
-  msg = error_of([&] { (void)read("dynamic:\n  geometry:\n    neighbourhood_agreement: 1.5\n"); });
-  EXPECT_NE(msg.find("dynamic.geometry.neighbourhood_agreement"), std::string::npos) << msg;
-  msg = error_of([&] { (void)read("dynamic:\n  geometry:\n    depth_threshold: 0\n"); });
-  EXPECT_NE(msg.find("dynamic.geometry.depth_threshold"), std::string::npos) << msg;
-  msg = error_of([&] { (void)read("dynamic:\n  geometry:\n    known_surface_px: -1\n"); });
-  EXPECT_NE(msg.find("dynamic.geometry.known_surface_px"), std::string::npos) << msg;
-}
 
 // --- the multi-view geometry check
 

@@ -209,46 +209,44 @@ GeometryCheckResult DynamicPointFilter::check(const data::Frame& frame, const cv
   // Points read the depth image at scattered pixels: each one's rows are fetched a few points
   // ahead, as most reads otherwise missed the cache (a third of the check's time).
   constexpr std::size_t kAhead = 8;
-  {
-    for (std::size_t j = 0; j < projected.size(); ++j) {
-      if (j + kAhead < projected.size()) {
-        const Projection& next = projected[j + kAhead];
-        for (int dv = -n; dv <= n; ++dv) __builtin_prefetch(depth.ptr<float>(next.v + dv) + next.u);
-      }
-      const auto& [X, z_proj, u, v, kf_index] = projected[j];
-      const float z_now = depth.at<float>(v, u);
-      if (z_now <= 0.0f) continue;
-      // Parallax between the two viewing rays of X (Fig. 5).
-      const Eigen::Vector3d a = (X - kf_centres[kf_index]).normalized(), b = (X - centre).normalized();
-      if (a.dot(b) < cos_limit) {
-        ++r.parallax_skipped;
-        continue;
-      }
-      ++r.judged;
-      ++judged_in[cell_of(u, v)];
-      const double threshold = params_.depth_threshold + params_.depth_threshold_slope * z_proj;
-      if (z_proj - z_now <= threshold) continue;
-      // The patch must agree: a lone closer pixel is noise or an edge, not an object.
-      int valid = 0, closer = 0;
-      for (int dv = -n; dv <= n; ++dv)
-        for (int du = -n; du <= n; ++du) {
-          const float d = depth.at<float>(v + dv, u + du);
-          if (d <= 0.0f) continue;
-          ++valid;
-          closer += (z_proj - d > threshold) ? 1 : 0;
-        }
-      if (valid == 0 || closer < params_.neighbourhood_agreement * valid) continue;
-      // The map knows a static surface at the depth now measured, right beside the pixel: the
-      // camera moved and static foreground (a monitor's edge, a desk) now hides the point. Nothing
-      // moved there; a moving object stands where the map has no points at its depth.
-      if (params_.known_surface_px > 0 &&
-          known.near(u, v, z_now,
-                     static_cast<float>(params_.depth_threshold + params_.depth_threshold_slope * z_now),
-                     params_.known_surface_px))
-        continue;
-      seeds.push_back({static_cast<float>(u), static_cast<float>(v), z_now});
-      ++seeds_in[cell_of(u, v)];
+  for (std::size_t j = 0; j < projected.size(); ++j) {
+    if (j + kAhead < projected.size()) {
+      const Projection& next = projected[j + kAhead];
+      for (int dv = -n; dv <= n; ++dv) __builtin_prefetch(depth.ptr<float>(next.v + dv) + next.u);
     }
+    const auto& [X, z_proj, u, v, kf_index] = projected[j];
+    const float z_now = depth.at<float>(v, u);
+    if (z_now <= 0.0f) continue;
+    // Parallax between the two viewing rays of X (Fig. 5).
+    const Eigen::Vector3d a = (X - kf_centres[kf_index]).normalized(), b = (X - centre).normalized();
+    if (a.dot(b) < cos_limit) {
+      ++r.parallax_skipped;
+      continue;
+    }
+    ++r.judged;
+    ++judged_in[cell_of(u, v)];
+    const double threshold = params_.depth_threshold + params_.depth_threshold_slope * z_proj;
+    if (z_proj - z_now <= threshold) continue;
+    // The patch must agree: a lone closer pixel is noise or an edge, not an object.
+    int valid = 0, closer = 0;
+    for (int dv = -n; dv <= n; ++dv)
+      for (int du = -n; du <= n; ++du) {
+        const float d = depth.at<float>(v + dv, u + du);
+        if (d <= 0.0f) continue;
+        ++valid;
+        closer += (z_proj - d > threshold) ? 1 : 0;
+      }
+    if (valid == 0 || closer < params_.neighbourhood_agreement * valid) continue;
+    // The map knows a static surface at the depth now measured, right beside the pixel: the
+    // camera moved and static foreground (a monitor's edge, a desk) now hides the point. Nothing
+    // moved there; a moving object stands where the map has no points at its depth.
+    if (params_.known_surface_px > 0 &&
+        known.near(u, v, z_now,
+                   static_cast<float>(params_.depth_threshold + params_.depth_threshold_slope * z_now),
+                   params_.known_surface_px))
+      continue;
+    seeds.push_back({static_cast<float>(u), static_cast<float>(v), z_now});
+    ++seeds_in[cell_of(u, v)];
   }
   // A moving object makes most judged points around it closer than expected; plain occlusion at
   // a depth edge (a wall point now hidden by a desk seen from a new angle) makes a few. Seeds

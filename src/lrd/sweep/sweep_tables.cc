@@ -215,10 +215,10 @@ std::string spread_table(const Layout& l) {
 std::string flags_table(const Layout& l) {
   const auto has = [](const json& e, const char* key) { return e.contains(key) && !e[key].is_null(); };
   const auto shows = [&](const char* count) {
-    return std::any_of(l.at.begin(), l.at.end(),
-                       [&](const std::pair<const std::pair<std::string, std::string>, const json*>& kv) {
-                         return has(*kv.second, count) && (*kv.second)[count]["median"].get<double>() > 0.0;
-                       });
+    return std::any_of(l.at.begin(), l.at.end(), [&](const auto& kv) {
+      const json& e = *kv.second;
+      return has(e, count) && e[count]["median"].template get<double>() > 0.0;
+    });
   };
   const bool boxes = shows("moved_object_keypoints"), balloons = shows("balloon_keypoints");
   const auto cell = [&](const json& e, const char* key) {

@@ -31,7 +31,10 @@ void add_sphere(TriangleSoup& soup, const Eigen::Isometry3f& pose, float radius,
 
 BalloonActor::BalloonActor(BalloonParams params, Appearance first_look, Appearance second_look,
                            const TextureLibrary& tex, std::string name)
-    : params_(params), looks_{first_look, second_look}, tex_(tex), name_(std::move(name)) {}
+    : params_(params),
+      looks_{first_look, second_look},
+      balloon_texture_(tex.id("balloon")),
+      name_(std::move(name)) {}
 
 Eigen::Vector3f BalloonActor::held_at(int person) const {
   const Eigen::Vector2f me = person == 0 ? params_.first : params_.second;
@@ -92,7 +95,7 @@ BodyPose BalloonActor::person_pose(int person, double t) const {
 void BalloonActor::add_geometry(double t, TriangleSoup& soup) const {
   for (int person = 0; person < 2; ++person) add_humanoid(soup, person_pose(person, t), looks_[person]);
   SurfaceStyle rubber;
-  rubber.texture = tex_.id("balloon");
+  rubber.texture = balloon_texture_;
   rubber.metres_per_repeat = 0.5f;
   rubber.albedo = 1.1f;
   rubber.voc_class = voc::kBackground;  // no Pascal VOC class: a network trained on it cannot know it

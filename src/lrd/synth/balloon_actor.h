@@ -40,7 +40,7 @@ class BalloonActor : public Actor {
 
   BalloonParams params_;
   Appearance looks_[2];
-  const TextureLibrary& tex_;
+  TextureId balloon_texture_;
   std::string name_;
 };
 

@@ -18,26 +18,26 @@ constexpr double kFlightFrom = 0.3, kFlightTo = 0.7;
 JumpingActor::JumpingActor(JumpParams params, Appearance look, std::string name)
     : params_(params), look_(look), name_(std::move(name)) {}
 
-float JumpingActor::lift_at(double t) const {
+double JumpingActor::jump_phase(double t) const {
   double c = std::fmod(t + params_.start, period());
   if (c < 0.0) c += period();
-  if (c >= params_.jumps_per_set * params_.period) return 0.0f;
-  const double u = std::fmod(c, params_.period) / params_.period;
+  if (c >= params_.jumps_per_set * params_.period) return -1.0;
+  return std::fmod(c, params_.period) / params_.period;
+}
+
+float JumpingActor::lift_at(double t) const {
+  const double u = jump_phase(t);
   if (u < kFlightFrom || u > kFlightTo) return 0.0f;
   const double s = (u - kFlightFrom) / (kFlightTo - kFlightFrom);
   return params_.height * static_cast<float>(4.0 * s * (1.0 - s));  // a ballistic arc
 }
 
 void JumpingActor::add_geometry(double t, TriangleSoup& soup) const {
-  double c = std::fmod(t + params_.start, period());
-  if (c < 0.0) c += period();
-  const bool jumping = c < params_.jumps_per_set * params_.period;
-  const double u = jumping ? std::fmod(c, params_.period) / params_.period : 0.0;
+  const double u = jump_phase(t);
   // Knee bend: deepest just before take-off and just after landing, straight in the air.
   float crouch = 0.0f;
-  if (jumping && u < kFlightFrom) crouch = static_cast<float>(std::sin(M_PI * u / kFlightFrom));
-  if (jumping && u > kFlightTo)
-    crouch = static_cast<float>(std::sin(M_PI * (u - kFlightTo) / (1.0 - kFlightTo)));
+  if (u >= 0.0 && u < kFlightFrom) crouch = static_cast<float>(std::sin(M_PI * u / kFlightFrom));
+  if (u > kFlightTo) crouch = static_cast<float>(std::sin(M_PI * (u - kFlightTo) / (1.0 - kFlightTo)));
   const float bend = 0.55f * crouch;  // rad at the hip; the knee bends twice as far
   const float lift = lift_at(t);
   BodyPose pose = walking_body(floor_pose(params_.spot.x(), params_.spot.y(), params_.yaw, lift), 0.0f, 0.0f,

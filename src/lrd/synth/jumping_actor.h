@@ -31,6 +31,9 @@ class JumpingActor : public Actor {
   [[nodiscard]] float lift_at(double t) const;
 
  private:
+  // Where in its jump the person is at time t, 0..1 from the crouch to standing again; -1 while
+  // they rest between sets.
+  [[nodiscard]] double jump_phase(double t) const;
   JumpParams params_;
   Appearance look_;
   std::string name_;
