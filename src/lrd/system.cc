@@ -5,16 +5,16 @@
 
 #include <chrono>
 #include <limits>
-#include <map>
-#include <mutex>
 #include <opencv2/imgproc.hpp>
 
 #include "lrd/data/frame.h"
+#include "lrd/data/rgbd_input.h"
 #include "lrd/map/keyframe.h"
 #include "lrd/map/map_point.h"
 #include "lrd/system_impl.h"
 #include "lrd/util/error.h"
 #include "lrd/util/project_files.h"
+#include "lrd/util/yardstick.h"
 
 namespace lrd {
 
@@ -22,31 +22,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
-}
-
-// One detectAndCompute of the yardstick (Y's definition: 1000 features, scale 1.2, 8 levels), in s.
-double time_yardstick(cv::Feature2D& orb, const cv::Mat& grey) {
-  std::vector<cv::KeyPoint> keypoints;
-  cv::Mat descriptors;
-  const auto start = Clock::now();
-  orb.detectAndCompute(grey, cv::noArray(), keypoints, descriptors);
-  return seconds(start, Clock::now());
-}
-
-std::string describe(const cv::Mat& m) {
-  return fmt::format("{}x{} {}", m.cols, m.rows, cv::typeToString(m.type()));
-}
-
-// Vocabularies are shared between systems of one process (tests and benchmarks build many).
-std::shared_ptr<const place::Vocabulary> load_vocabulary(const std::filesystem::path& file) {
-  static std::mutex mutex;
-  static std::map<std::filesystem::path, std::weak_ptr<const place::Vocabulary>> cache;
-  std::lock_guard lock(mutex);
-  const std::filesystem::path key = std::filesystem::absolute(file).lexically_normal();
-  if (auto v = cache[key].lock()) return v;
-  auto v = std::make_shared<const place::Vocabulary>(place::Vocabulary::load(file));
-  cache[key] = v;
-  return v;
 }
 
 constexpr const char* kShippedVocabulary = "vocab/orb_vocab.lrdv";
@@ -60,7 +35,7 @@ System::Impl::Impl(const config::Config& cfg, SystemParams p, SystemOptions opts
   const std::filesystem::path& configured = params.loop_closing.vocabulary;
   vocabulary_file = configured.empty() ? util::find_project_file(kShippedVocabulary) : configured;
   if (!configured.empty() || std::filesystem::exists(vocabulary_file)) {
-    vocabulary = load_vocabulary(vocabulary_file);
+    vocabulary = place::Vocabulary::load_shared(vocabulary_file);
   } else {
     spdlog::warn("no vocabulary at {}: no relocalization or loop closing", vocabulary_file.string());
     vocabulary_file.clear();
@@ -216,19 +191,7 @@ TrackResult System::track_rgbd(const cv::Mat& rgb, const cv::Mat& depth, double 
     s.failure = s.errors.message();
     throw Error(s.failure);
   }
-  const camera::PinholeCamera& cam = s.config.camera;
-  if (rgb.empty() || (rgb.type() != CV_8UC3 && rgb.type() != CV_8UC1))
-    throw Error(fmt::format("track_rgbd: colour image must be CV_8UC3 or CV_8UC1, got {}", describe(rgb)));
-  if (rgb.cols != cam.width || rgb.rows != cam.height)
-    throw Error(fmt::format("track_rgbd: colour image is {}x{}, the camera '{}' is {}x{}", rgb.cols, rgb.rows,
-                            cam.name, cam.width, cam.height));
-  if (depth.size() != rgb.size() || (depth.type() != CV_16UC1 && depth.type() != CV_32FC1))
-    throw Error(
-        fmt::format("track_rgbd: depth must be CV_16UC1 or CV_32FC1 of the colour image's size, got {}",
-                    describe(depth)));
-  if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != rgb.size()))
-    throw Error(
-        fmt::format("track_rgbd: mask must be CV_8UC1 of the colour image's size, got {}", describe(mask)));
+  data::check_rgbd_input(rgb, depth, mask, s.config.camera);
   if (!(timestamp > s.last_timestamp))
     throw Error(fmt::format("track_rgbd: timestamp {:.6f} does not increase (previous {:.6f})", timestamp,
                             s.last_timestamp));
@@ -251,16 +214,8 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
   const std::uint64_t id = next_frame_id++;
   // The network starts on this frame now and runs while the features are found (Fig. 1).
   p.front_end.submit(id, timestamp, rgb);
-  cv::Mat grey;
-  if (rgb.channels() == 3)
-    cv::cvtColor(rgb, grey, cam.rgb_order ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
-  else
-    grey = rgb;
-  cv::Mat depth_m;
-  if (depth.type() == CV_16UC1)
-    depth.convertTo(depth_m, CV_32F, 1.0 / cam.depth_map_factor);
-  else
-    depth_m = depth;
+  const cv::Mat grey = data::grey_of(rgb, cam);
+  const cv::Mat depth_m = data::depth_in_metres(depth, cam);
   // The front end keeps the depth of the recent frames the network sees: its own copy, not the
   // caller's buffer (1.2 MB at 640x480, copied only where it is kept).
   const bool keeps_depth = p.front_end.keeps_depth_of(id) && depth.type() == CV_32FC1;
@@ -286,7 +241,7 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
   result.dynamic.mask_age = semantic.mask_age;
   result.timing.segmentation = semantic.segmentation_seconds;
   data::Frame frame(id, timestamp, grey, depth_m, dynamic_mask, p.extractor, p.undistorter, cam, extraction);
-  if (yardstick_orb) result.timing.yardstick = time_yardstick(*yardstick_orb, grey);
+  if (yardstick_orb) result.timing.yardstick = util::yardstick_seconds(*yardstick_orb, grey);
   const auto t1 = Clock::now();
   const tracking::TrackOutcome outcome = p.tracker.track(frame);
   const auto t2 = Clock::now();
@@ -296,14 +251,7 @@ TrackResult System::Impl::track(const cv::Mat& rgb, const cv::Mat& depth, double
                                                outcome.new_keyframe_T_wc, outcome.new_keyframe_points});
   // A new keyframe goes to the dense stage with its images.
   if (p.dense && outcome.new_keyframe != nullptr) {
-    cv::Mat bgr;
-    if (rgb.channels() == 1)
-      cv::cvtColor(rgb, bgr, cv::COLOR_GRAY2BGR);
-    else if (cam.rgb_order)
-      cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-    else
-      bgr = rgb.clone();
-    p.dense->add_keyframe(outcome.new_keyframe, std::move(bgr),
+    p.dense->add_keyframe(outcome.new_keyframe, data::bgr_copy_of(rgb, cam),
                           depth.type() == CV_32FC1 ? depth_m.clone() : depth_m,
                           frame.dynamic_mask.empty() ? cv::Mat() : frame.dynamic_mask.clone(),
                           /*mask_carried=*/p.front_end.uses_segmentation() && semantic.mask_age != 0);

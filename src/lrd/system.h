@@ -134,7 +134,7 @@ class System {
   void save_trajectory_tum(const std::filesystem::path& file) const;
   void save_keyframe_trajectory_tum(const std::filesystem::path& file) const;
 
-  // --- map files (map/map_file.h, issue 20)
+  // --- map files (map/map_file.h, docs/map-files.md)
   // Writes the map as it is now (after shutdown(): the final one) to `file` (.lrdmap), whole or
   // not at all; any thread, while frames are tracked (tracking waits only while the map's
   // changing parts are copied: capture_map). Throws lrd::Error naming the file.
@@ -176,7 +176,7 @@ class System {
   [[nodiscard]] dense::DenseStorage dense_storage() const;
   // Called in the dense thread after each keyframe's background repair; set before tracking.
   void set_repair_callback(dense::DenseMapper::RepairCallback callback);
-  // --- occupancy (issue 25): with the dense stage unless occupancy.enabled is false
+  // --- occupancy (docs/occupancy.md): with the dense stage unless occupancy.enabled is false
   [[nodiscard]] bool occupancy_enabled() const;
   [[nodiscard]] const occupancy::OccupancyParams& occupancy_params() const;
   // The OctoMap, floor and 2-D grid of the dense stage's keyframes at their current poses, built

@@ -1,4 +1,4 @@
-// System::save_map and System::load_map (issue 20): the map outlives the process.
+// System::save_map and System::load_map (docs/map-files.md): the map outlives the process.
 #include <spdlog/spdlog.h>
 
 #include <chrono>

@@ -36,7 +36,7 @@ struct SystemOptions {
   bool localization_only = false;
   // A live viewer's bound on queued frame events (0: every frame is delivered).
   std::size_t max_queued_frame_events = 0;
-  // Benchmarks (issue 23): time OpenCV's ORB (the yardstick Y, util/yardstick.h) on each frame's
+  // Benchmarks: time OpenCV's ORB (the yardstick Y, util/yardstick.h) on each frame's
   // grey image in the tracking thread, right after our own extraction, so that Y and the work it
   // divides share the machine's state and the other threads' competition. FrameTiming::yardstick;
   // not in the frame's total.

@@ -155,6 +155,19 @@ TEST(Vocabulary, TrainingIsDeterministicAndSeedMatters) {
   EXPECT_NE(bytes, TempDir::read(c));
 }
 
+TEST(Vocabulary, LoadSharedLoadsAFileOncePerProcessWhileItIsHeld) {
+  const std::vector<cv::Mat> images(training_descriptors().begin(), training_descriptors().begin() + 5);
+  TempDir dir("vocab_shared");
+  const auto file = dir.path() / "v.lrdv";
+  Vocabulary::train(images, VocabularyParams{}).save(file);
+  auto first = Vocabulary::load_shared(file);
+  // The same file by another spelling of its path: the same object.
+  auto again = Vocabulary::load_shared(dir.path() / "." / "v.lrdv");
+  EXPECT_EQ(first.get(), again.get());
+  EXPECT_EQ(first->fingerprint(), Vocabulary::load(file).fingerprint());
+  EXPECT_THROW(Vocabulary::load_shared(dir.path() / "missing.lrdv"), lrd::Error);
+}
+
 TEST(Vocabulary, TreeShape) {
   const Vocabulary& v = trained();
   EXPECT_FALSE(v.empty());

@@ -17,7 +17,6 @@
 #include "lrd/map/map_point.h"
 #include "lrd/mapping/local_mapper.h"
 #include "lrd/match/orb_matcher.h"
-#include "lrd/optim/global_bundle_adjuster.h"
 #include "lrd/optim/pose_graph_optimizer.h"
 #include "lrd/util/fault_injection.h"
 #include "lrd/util/thread_priority.h"
@@ -29,41 +28,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 }  // namespace
-
-LoopClosingParams LoopClosingParams::from_config(config::NodeReader r,
-                                                 const std::filesystem::path& base_dir) {
-  LoopClosingParams p;
-  p.enabled = r.get("enabled", p.enabled);
-  p.vocabulary = r.get("vocabulary", p.vocabulary);
-  if (!p.vocabulary.empty() && p.vocabulary.is_relative() && !base_dir.empty())
-    p.vocabulary = base_dir / p.vocabulary;
-  p.detector.consistency = r.get("consistency", p.detector.consistency);
-  r.check(p.detector.consistency >= 1, "consistency", "must be >= 1");
-  p.detector.min_keyframes_between = r.get("min_keyframes_between", p.detector.min_keyframes_between);
-  p.detector.min_bow_matches = r.get("min_bow_matches", p.detector.min_bow_matches);
-  p.detector.min_ransac_inliers = r.get("min_ransac_inliers", p.detector.min_ransac_inliers);
-  r.check(p.detector.min_ransac_inliers >= 3, "min_ransac_inliers", "must be >= 3");
-  p.detector.min_matches = r.get("min_matches", p.detector.min_matches);
-  p.detector.ransac_iterations = r.get("ransac_iterations", p.detector.ransac_iterations);
-  r.check(p.detector.ransac_iterations >= 1, "ransac_iterations", "must be >= 1");
-  p.essential_min_weight = r.get("essential_min_weight", p.essential_min_weight);
-  p.pose_graph_iterations = r.get("pose_graph_iterations", p.pose_graph_iterations);
-  r.check(p.pose_graph_iterations >= 1, "pose_graph_iterations", "must be >= 1");
-  p.global_ba = r.get("global_ba", p.global_ba);
-  p.global_ba_iterations = r.get("global_ba_iterations", p.global_ba_iterations);
-  r.check(p.global_ba_iterations >= 1, "global_ba_iterations", "must be >= 1");
-  p.global_ba_max_edge_change_m = r.get("global_ba_max_edge_change_m", p.global_ba_max_edge_change_m);
-  r.check(p.global_ba_max_edge_change_m > 0.0, "global_ba_max_edge_change_m", "must be > 0");
-  p.global_ba_max_edge_change_deg = r.get("global_ba_max_edge_change_deg", p.global_ba_max_edge_change_deg);
-  r.check(p.global_ba_max_edge_change_deg > 0.0, "global_ba_max_edge_change_deg", "must be > 0");
-  p.pose_graph_max_edge_change_m = r.get("pose_graph_max_edge_change_m", p.pose_graph_max_edge_change_m);
-  r.check(p.pose_graph_max_edge_change_m > 0.0, "pose_graph_max_edge_change_m", "must be > 0");
-  p.pose_graph_max_edge_change_deg =
-      r.get("pose_graph_max_edge_change_deg", p.pose_graph_max_edge_change_deg);
-  r.check(p.pose_graph_max_edge_change_deg > 0.0, "pose_graph_max_edge_change_deg", "must be > 0");
-  r.finish();
-  return p;
-}
 
 LoopCloser::LoopCloser(map::Map& map, map::KeyFrameDatabase& database, mapping::LocalMapper& mapper,
                        LoopClosingParams params, bool threaded)
@@ -326,60 +290,6 @@ bool LoopCloser::agrees_with_map(const LoopDetection& loop, const std::vector<ma
       "{}'s neighbourhood at a median {:.1f} px, {:.1f} px after the correction",
       current, old, correction_m, old, a.shared, current, a.median_before_px, a.median_after_px);
   return false;
-}
-
-void LoopCloser::start_global_ba(std::uint64_t run) {
-  stop_global_ba();
-  if (!threaded_) {
-    run_global_ba(run);
-    return;
-  }
-  abort_global_ba_.store(false);
-  global_ba_thread_ = std::thread([this, run] {
-    util::name_this_thread("lrd-global-ba");
-    try {
-      run_global_ba(run);
-    } catch (...) {
-      errors_->capture("global BA");
-    }
-  });
-}
-
-void LoopCloser::stop_global_ba() {
-  abort_global_ba_.store(true);
-  if (global_ba_thread_.joinable()) global_ba_thread_.join();
-  abort_global_ba_.store(false);
-}
-
-void LoopCloser::run_global_ba(std::uint64_t run) {
-  // Keeps keyframe and map-point pointers while it solves without the map mutex.
-  const map::ReclamationMembership member(map_.reclamation(), "global BA");
-  util::check_fault_point("global_ba");
-  const auto t0 = std::chrono::steady_clock::now();
-  optim::GlobalBundleAdjustmentParams gp;
-  gp.iterations = params_.global_ba_iterations;
-  gp.max_edge_change_m = params_.global_ba_max_edge_change_m;
-  gp.max_edge_change_deg = params_.global_ba_max_edge_change_deg;
-  const auto s = optim::global_bundle_adjustment(map_, run, threaded_ ? &abort_global_ba_ : nullptr, gp);
-  if (s.implausible)
-    spdlog::warn(
-        "global BA after loop at keyframe {} rejected: it would {}, its parent or tracked beside it (limits "
-        "{} m, {} deg); the map keeps the pose-graph result",
-        run, s.odometry_change.beyond(gp.max_edge_change_m, gp.max_edge_change_deg), gp.max_edge_change_m,
-        gp.max_edge_change_deg);
-  else
-    spdlog::info(
-        "global BA after loop at keyframe {}: {} keyframes, {} points, rms {:.2f} -> {:.2f} px, "
-        "keyframes moved against their parents and linked keyframes by up to {:.3f} m{}",
-        run, s.keyframes, s.points, s.initial_rms_px, s.final_rms_px, s.odometry_change.metres,
-        s.aborted ? " (aborted)" : "");
-  const double seconds = seconds_since(t0);
-  std::lock_guard lock(stats_mutex_);
-  ++stats_.global_bundle_adjustments;
-  if (s.aborted) ++stats_.aborted_global_bundle_adjustments;
-  if (s.implausible) ++stats_.implausible_global_bundle_adjustments;
-  stats_.global_ba_seconds += seconds;
-  stats_.global_ba_runs.push_back({run, s.keyframes, s.points, seconds, s.aborted, s.implausible});
 }
 
 }  // namespace lrd::loop

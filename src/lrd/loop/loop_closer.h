@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "lrd/config/node_reader.h"
+#include "lrd/loop/loop_closing_params.h"
 #include "lrd/loop/loop_detector.h"
 #include "lrd/map/reclamation.h"
 #include "lrd/util/thread_errors.h"
@@ -44,27 +45,6 @@ class LocalMapper;
 
 namespace lrd::loop {
 
-struct LoopClosingParams {
-  bool enabled = true;
-  std::filesystem::path vocabulary;  // empty: the shipped vocab/orb_vocab.lrdv
-  LoopDetectorParams detector;
-  int essential_min_weight = 100;  // covisibility edges kept in the essential graph
-  int pose_graph_iterations = 20;
-  bool global_ba = true;
-  int global_ba_iterations = 10;
-  // A global BA result that moves a keyframe further against its spanning-tree parent is
-  // implausible and not merged (optim/global_bundle_adjuster.h).
-  double global_ba_max_edge_change_m = 0.1;
-  double global_ba_max_edge_change_deg = 5.0;
-  // A loop whose pose-graph correction would change a keyframe's pose against its spanning-tree
-  // parent by more than this, or leave the loop open by more, is refused (loop_solution.h).
-  double pose_graph_max_edge_change_m = 0.25;
-  double pose_graph_max_edge_change_deg = 10.0;
-  // Reads the `loop_closing` section of the config (and finishes it); relative paths are
-  // relative to `base_dir` (the config file's folder).
-  static LoopClosingParams from_config(config::NodeReader reader, const std::filesystem::path& base_dir);
-};
-
 // One closed loop, for the run log and the summary.
 struct LoopEvent {
   std::uint64_t frame_id = 0;  // the frame that became the keyframe closing the loop
@@ -73,7 +53,7 @@ struct LoopEvent {
   std::uint64_t loop_keyframe_id = 0;
   int inliers = 0;            // matches supporting the loop after the projection search
   double correction_m = 0.0;  // how far the keyframe moved
-  // Scale (issue 23): the map's keyframes when the loop was corrected, the essential graph's
+  // Scale: the map's keyframes when the loop was corrected, the essential graph's
   // edges, and the latency of each step, so a benchmark can plot it against the map's size.
   std::size_t keyframes = 0;
   std::size_t pose_graph_edges = 0;

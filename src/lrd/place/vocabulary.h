@@ -24,6 +24,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -52,6 +53,9 @@ class Vocabulary {
   // Throws lrd::Error naming the file: missing or unreadable, not a vocabulary (bad magic),
   // unsupported version, truncated, or inconsistent (sizes, tree structure, word ids, weights).
   static Vocabulary load(const std::filesystem::path& file);
+  // The same, loaded once per process and shared while anyone holds it (tests and benchmarks
+  // build many systems on one vocabulary).
+  static std::shared_ptr<const Vocabulary> load_shared(const std::filesystem::path& file);
   // Throws lrd::Error naming the file when it cannot be written, or when the vocabulary is empty.
   void save(const std::filesystem::path& file) const;
   // The vocabulary's identity: FNV-1a 64 of its .lrdv bytes (0 when empty). Map files record it,

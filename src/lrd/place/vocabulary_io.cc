@@ -1,5 +1,8 @@
 // Vocabulary::save and Vocabulary::load: the .lrdv file (place/vocabulary_format.h).
 #include <bit>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 
@@ -90,6 +93,17 @@ Vocabulary Vocabulary::load(const std::filesystem::path& file) {
   if (const std::string problem = v.index(words); !problem.empty()) throw file_error(file, problem);
   v.word_weights_.resize(words);
   for (std::uint32_t w = 0; w < words; ++w) v.word_weights_[w] = weights[v.word_nodes_[w]];
+  return v;
+}
+
+std::shared_ptr<const Vocabulary> Vocabulary::load_shared(const std::filesystem::path& file) {
+  static std::mutex mutex;
+  static std::map<std::filesystem::path, std::weak_ptr<const Vocabulary>> cache;
+  std::lock_guard lock(mutex);
+  const std::filesystem::path key = std::filesystem::absolute(file).lexically_normal();
+  if (auto v = cache[key].lock()) return v;
+  auto v = std::make_shared<const Vocabulary>(load(file));
+  cache[key] = v;
   return v;
 }
 

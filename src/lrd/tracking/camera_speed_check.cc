@@ -1,5 +1,5 @@
-// Tracking against the camera's speed limit, tracking.max_camera_speed (reliability issue 22;
-// docs/slam-core.md, "Moving faster than a camera"):
+// Tracking against the camera's speed limit, tracking.max_camera_speed (docs/slam-core.md, "Moving
+// faster than a camera"; the divergence runs in bench/results/log/divergence.md):
 //  - Tracker::check_camera_speed: tracking that moved the camera faster than the limit followed a
 //    person walking past; the frame is tracked again from where that stride began, and the frames
 //    that followed are placed again; those it cannot track again are placed again when a
@@ -43,8 +43,8 @@ bool Tracker::recover(data::Frame& frame, TrackOutcome& outcome) {
   if (!metres) return outcome.relocalized = true;
   suggest_crossing(frame, *reference_kf_);
   // No candidate placed the camera where it can have gone since it was lost: the map holds this
-  // place twice, apart by its drift (a static-mode walking_rpy run relocalized 1.15 m from where
-  // it was lost a frame before; bench/results/divergence.md). Tracked from the last pose instead,
+  // place twice, apart by its drift (a static-mode walking_rpy run relocalized 1.15 m from where it
+  // was lost a frame before; bench/results/log/divergence.md). Tracked from the last pose instead,
   // the trajectory does not jump; failing that the frame stays lost, and after a second lost any
   // relocalization stands.
   data::Frame near = frame;
@@ -77,7 +77,7 @@ void Tracker::suggest_crossing(const data::Frame& frame, const map::KeyFrame& fo
   // Relocalized beyond where the camera can have gone, tracking found the place it left held a
   // second time by the map: the loop between the two copies, closed, moves the frames tracked
   // before the loss with their keyframes instead of leaving a step in the trajectory (walking_xyz
-  // static: 1.03 m; bench/results/divergence.md). The camera barely moved in the frames it was
+  // static: 1.03 m; bench/results/log/divergence.md). The camera barely moved in the frames it was
   // lost: where the relocalization puts it now is where it was last tracked, relative to the
   // keyframe it was tracked against. The loop closer verifies it.
   if (!crossing_callback_ || localization_only_) return;
@@ -128,7 +128,7 @@ void Tracker::check_camera_speed(data::Frame& frame) {
   // jumps by all the drift at once where tracking would have worked it off (walking_xyz static:
   // 0.8-1.3 m jumps; bench/results/divergence.md).
   const FrameRecord from = *stride->from;
-  SearchState first{reference_kf_, local_keyframes_, local_points_, inliers_};
+  SearchState first{reference_kf_, local_map_.contents(), inliers_};
   data::Frame again = frame;
   if (track_again_from(again, from)) {
     const double metres = (again.T_wc().translation() - stride->from_t_wc).norm();
@@ -150,16 +150,15 @@ void Tracker::check_camera_speed(data::Frame& frame) {
   if (!followed_since_) followed_since_ = from;
   followed_until_ = frame.timestamp();
   reference_kf_ = first.reference;
-  local_keyframes_ = std::move(first.local_keyframes);
-  local_points_ = std::move(first.local_points);
+  local_map_.restore(std::move(first.local_map));
   inliers_ = first.inliers;
 }
 
 bool Tracker::replace_frames_before_a_return(const data::Frame& frame) {
   // Tracking can follow a person at just under the limit and come back to the map that stood still
   // in one frame (walking_xyz static: frames 795-799 5 cm a frame, then 0.52 m back at frame 800,
-  // 1 cm in truth; bench/results/divergence.md): a stride measured over 0.2 s hides a way out and
-  // back. A step from the last tracked frame beyond the limit, turning back towards an earlier
+  // 1 cm in truth; bench/results/log/divergence.md): a stride measured over 0.2 s hides a way out
+  // and back. A step from the last tracked frame beyond the limit, turning back towards an earlier
   // frame and landing within the limit of it (within a second), with more inliers than the last
   // frame (the map agrees more: back on what stood still, not onto another person), means the
   // frames between went out and came back faster than a camera can: they are placed again on the
@@ -220,7 +219,7 @@ void Tracker::replace_followed_frames(const FrameRecord& from, const data::Frame
 void Tracker::replace_frames_followed_before_loss(const data::Frame& relocalized) {
   // Tracking that followed a person until the map no longer agreed is lost, then relocalized
   // against the map that stood still: without this, the trajectory steps back by all it followed
-  // at once (walking_rpy static, run 17: 0.84 m; bench/results/divergence.md).
+  // at once (walking_rpy static, run 17: 0.84 m; bench/results/log/divergence.md).
   if (!followed_since_) return;
   const FrameRecord from = *std::exchange(followed_since_, std::nullopt);
   const double lost_seconds = relocalized.timestamp() - followed_until_;

@@ -1,10 +1,10 @@
 #pragma once
-// How far the camera went over the last moment of unbroken tracking (reliability issue 22): a
-// tracker whose matches are dominated by a person walking past follows the person, at a walking
-// pace no hand-held or indoor robot camera keeps, until the map no longer agrees and tracking is
-// lost far from where the camera is (a static-mode walking_halfsphere run went 0.6 m in 10 frames
-// against 7 cm in truth, then relocalized 0.67 m back). Measured over a few frames, not one, so
-// the frame-to-frame jitter of tracking among people averages out.
+// How far the camera went over the last moment of unbroken tracking (docs/slam-core.md, "Moving
+// faster than a camera"): a tracker whose matches are dominated by a person walking past follows
+// the person, at a walking pace no hand-held or indoor robot camera keeps, until the map no longer
+// agrees and tracking is lost far from where the camera is (a static-mode walking_halfsphere run
+// went 0.6 m in 10 frames against 7 cm in truth, then relocalized 0.67 m back). Measured over a few
+// frames, not one, so the frame-to-frame jitter of tracking among people averages out.
 #include <Eigen/Geometry>
 #include <optional>
 #include <vector>

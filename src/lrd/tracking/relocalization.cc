@@ -98,7 +98,7 @@ bool Tracker::relocalize(data::Frame& frame) {
     if (good >= kMinGuidedStart && good < kGuidedTarget) {
       for (std::size_t i = 0; i < frame.size(); ++i)
         if (frame.outliers[i]) frame.map_points[i] = nullptr;
-      if (good + guided_matches(frame, *kf, local_matcher_, 10.0f) >= kGuidedTarget) {
+      if (good + guided_matches(frame, *kf, local_map_.matcher(), 10.0f) >= kGuidedTarget) {
         good = optimize_pose(frame);
         spdlog::debug("frame {}: {} inliers after the guided search", frame.id(), good);
       }

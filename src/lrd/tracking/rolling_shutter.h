@@ -1,6 +1,6 @@
 #pragma once
-// Rolling-shutter compensation (issue 21, item 4). A rolling-shutter colour camera reads its rows
-// out one after another over `readout_time`: a keypoint on row y was seen
+// Rolling-shutter compensation (docs/slam-core.md, "Rolling shutter"). A rolling-shutter colour
+// camera reads its rows out one after another over `readout_time`: a keypoint on row y was seen
 // dt = readout_time * (y / (H - 1) - 1/2) away from the frame's stamp (the middle row). Tracking
 // and mapping take every keypoint as seen at the stamp, so under a turning camera the frame is
 // sheared (19 deg/s and a 28 ms readout: ~5 px between top and bottom rows) and the pose fitted to

@@ -18,6 +18,8 @@
 #include "lrd/match/orb_matcher.h"
 #include "lrd/tracking/frame_record.h"
 #include "lrd/tracking/keyframe_inserter.h"
+#include "lrd/tracking/local_map.h"
+#include "lrd/tracking/motion_model.h"
 #include "lrd/tracking/tracker_params.h"
 #include "lrd/tracking/tracking_state.h"
 
@@ -87,7 +89,7 @@ class Tracker {
   // A map was loaded (map/map_file.h): frames relocalize against it until one is placed, instead
   // of starting a new map. Call before the first frame.
   void start_in_loaded_map() { state_ = TrackingState::NotLocalized; }
-  // Localization only (issue 20): track against the map without adding keyframes (so no map
+  // Localization only (docs/map-files.md): track against the map without adding keyframes (so no map
   // points either; local mapping and loop closing stay idle).
   void set_localization_only(bool on) { localization_only_ = on; }
   // Frames relocalized so far.
@@ -130,9 +132,6 @@ class Tracker {
                                                          const data::Frame& frame) const;
   bool track_with_motion_model(data::Frame& frame);
   bool track_local_map(data::Frame& frame);
-  void update_local_keyframes(data::Frame& frame);
-  void update_local_points();
-  int search_local_points(data::Frame& frame);
   int optimize_pose(data::Frame& frame);
   // Debug log: the frame's live pose and its step from the last frame (as its keyframe stands now).
   void log_live_pose(const data::Frame& frame) const;
@@ -162,15 +161,10 @@ class Tracker {
   // What a search of the local map leaves in the tracker (kept to undo a second search).
   struct SearchState {
     map::KeyFrame* reference;
-    std::vector<map::KeyFrame*> local_keyframes;
-    std::vector<map::MapPoint*> local_points;
+    LocalMap::Contents local_map;
     int inliers;
   };
-  // Camera frames from the last tracked frame to one taken at `timestamp`: more than one where
-  // frames were dropped (a live node behind the camera) or are missing from a sequence.
-  [[nodiscard]] int frame_steps(double timestamp) const;
   [[nodiscard]] Eigen::Isometry3d motion_model_pose(double timestamp) const;
-  void update_velocity(const data::Frame& frame);
 
   map::Map& map_;
   mapping::LocalMapper& mapper_;
@@ -178,7 +172,6 @@ class Tracker {
   KeyFrameInserter keyframes_;
   match::OrbMatcher motion_matcher_;     // nn 0.9, rotation check
   match::OrbMatcher reference_matcher_;  // nn 0.7, rotation check
-  match::OrbMatcher local_matcher_;      // nn 0.8
 
   TrackingState state_ = TrackingState::NotInitialized;
   map::ReclamationMembership reclamation_;
@@ -187,14 +180,12 @@ class Tracker {
   // The reference keyframe of the frame just before, if it was tracked (for the tracking links).
   std::optional<std::uint64_t> previous_reference_;
   Eigen::Isometry3d last_T_c_ref_ = Eigen::Isometry3d::Identity();
-  std::optional<Eigen::Isometry3d> velocity_;  // T_c(t) c(t-1), over one camera frame
-  double frame_period_ = 0.0;                  // seconds between camera frames (0: not yet known)
+  MotionModel motion_;
   map::KeyFrame* reference_kf_ = nullptr;
   std::uint64_t recovered_frame_id_ = 0;
   bool recovered_ = false;
   int inliers_ = 0;
-  std::vector<map::KeyFrame*> local_keyframes_;
-  std::vector<map::MapPoint*> local_points_;
+  LocalMap local_map_;
   std::vector<FrameRecord> records_;
   dynamic::MovingPointCheck* moving_point_check_ = nullptr;
   const place::Vocabulary* vocabulary_ = nullptr;
@@ -203,8 +194,6 @@ class Tracker {
   int implausible_motions_ = 0;
   // Tags map points and keyframes met by one search of the map (a frame may be searched twice).
   std::uint64_t search_pass_ = 0;
-  std::uint64_t sharing_count_pass_ = 0;  // tags KeyFrame::track_shared_points (update_local_keyframes)
-  std::vector<map::KeyFrame*> sharing_keyframes_;  // update_local_keyframes' scratch list
   // This frame was tracked again from an earlier pose: no velocity or tracking link from the last.
   bool restarted_motion_ = false;
   // Where the stride of the first frame flagged and kept since the last stride within the limit

@@ -15,6 +15,15 @@ inline double median_of(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// Seconds of one detectAndCompute of `orb` (made as below) on `grey`: the yardstick per frame.
+inline double yardstick_seconds(cv::Feature2D& orb, const cv::Mat& grey) {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  const auto start = std::chrono::steady_clock::now();
+  orb.detectAndCompute(grey, cv::noArray(), keypoints, descriptors);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 // Median milliseconds of OpenCV ORB (1000 features, scale 1.2, 8 levels) over `grey` frames.
 inline double yardstick_ms(const std::vector<cv::Mat>& grey) {
   auto orb = cv::ORB::create(1000, 1.2f, 8);
