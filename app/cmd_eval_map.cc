@@ -1,6 +1,7 @@
 // `lrdslam eval-map`: judges the maps of a finished run against the synthetic benchmark's
-// scene.ply: the dense map (issue 7: ghosts, completeness) and, when the run wrote them, the
-// occupancy map and 2-D grid (issue 25: precision, recall, people ghosts, the people's path).
+// scene.ply: the dense map (ghosts, completeness; docs/dense-map.md) and, when the run wrote them,
+// the occupancy map and 2-D grid (precision, recall, people ghosts, the people's path;
+// docs/occupancy.md).
 #include <cstdio>
 #include <memory>
 #include <string>

@@ -1,5 +1,5 @@
 // `lrdslam report RUN_DIR [--sequence SEQ] [--out FILE.html]`: one self-contained HTML page about a
-// run (issue 24); `run --report` writes the same page into its output folder. Given a folder
+// run (docs/report.md); `run --report` writes the same page into its output folder. Given a folder
 // bench_dynamic wrote (results.json), the page shows the benchmark instead.
 #include <cstdio>
 #include <memory>

@@ -63,7 +63,7 @@ void register_synth_command(CLI::App& app) {
   cmd->add_option(
          "--session", opts->session,
          "Map-file session: 1 is the preset's camera path; 2 and 3 see the same room and people from "
-         "another standpoint, starting turned away from session 1's view, in the same world frame")
+         "another standpoint, starting turned away from the view session 1 sees, in the same world frame")
       ->check(CLI::Range(1, synth::CameraMotion::kMaxSession))
       ->capture_default_str();
   auto blank = std::make_shared<std::string>();

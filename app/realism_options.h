@@ -1,5 +1,6 @@
 #pragma once
-// `--realism` and `--realism-off` (issue 21), the same on `synth` and on `run --synth`.
+// `--realism` and `--realism-off` (docs/synthetic-benchmark.md), the same on `synth` and on
+// `run --synth`.
 #include <CLI/CLI.hpp>
 #include <string>
 

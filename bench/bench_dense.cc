@@ -1,11 +1,11 @@
-// Dense stage benchmark (issue 7): each walking preset in `full` mode without the dense map, with
-// it (background repair + point cloud in its own thread) and with it and the occupancy map (issue
-// 25), alternately and `--repeat` times, so the cost of each to tracking shows as the ratio of the
-// medians (bar: within 5 %). The dense runs also report the repair (fill ratio, median depth error
-// vs static/depth) and the map (ghosts, completeness vs scene.ply); the occupancy runs its build
-// time and precision, recall, people ghosts and the people's path on the 2-D grid, with one
-// `static`-mode run as the negative control. Time per frame excludes PNG decoding; Y = median
-// `cv::ORB` detectAndCompute on the same frames.
+// Dense stage benchmark (docs/dense-map.md): each walking preset in `full` mode without the dense
+// map, with it (background repair + point cloud in its own thread) and with it and the occupancy
+// map (docs/occupancy.md), alternately and `--repeat` times, so the cost of each to tracking shows
+// as the ratio of the medians (bar: within 5 %). The dense runs also report the repair (fill ratio,
+// median depth error vs static/depth) and the map (ghosts, completeness vs scene.ply); the
+// occupancy runs its build time and precision, recall, people ghosts and the people's path on the
+// 2-D grid, with one `static`-mode run as the negative control. Time per frame excludes PNG
+// decoding; Y = median `cv::ORB` detectAndCompute on the same frames.
 //
 //   bench_dense [--presets a,b] [--segmenter NAME] [--frames N] [--repeat N] [--realtime] [--cache DIR]
 //               [--static-control 0|1] [--out FILE.md]
@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
       "repaired | "
       "filled | depth error mm | map points | ghosts > 5 cm | completeness |\n"
       "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-  // Issue 25: the occupancy map on top of the dense map, and static mode as the negative control.
+  // The occupancy map on top of the dense map, and static mode as the negative control.
   std::string occ_md = fmt::format(
       "| sequence | mode | dense: median ms | + occupancy: median ms | ratio | build s (× Y per keyframe) | "
       "precision | recall | people ghosts | grid precision | grid recall | path cells blocked |\n"
@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
                           << (realtime ? ", frames at the camera's pace" : ", frames as fast as tracked")
                           << ", realism `" << realism << "`"
                           << ")\n\n"
-                          << md << "\n## Occupancy map (issue 25)\n\n"
+                          << md << "\n## Occupancy map\n\n"
                           << occ_md;
   std::printf("wrote %s\n", out_file.c_str());
   return 0;

@@ -1,4 +1,4 @@
-// Dynamic-scene benchmark (issue: dynamic scenes): every mode over the walking, sitting and
+// Dynamic-scene benchmark (bench/results/dynamic.md): every mode over the walking, sitting and
 // walking_pushed presets in one go, written as the paper's tables — Tables 4-7 (ATE, RPE
 // translation, RPE rotation: RMSE / mean / median / std per mode), Table 10 (mean and median
 // time per frame per mode, also as multiples of the yardstick Y) and the improvement rate

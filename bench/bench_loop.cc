@@ -1,4 +1,4 @@
-// Loop-closing benchmark (issue: place recognition): runs the loop presets with and without loop
+// Loop-closing benchmark (bench/results/loop.md): runs the loop presets with and without loop
 // closing in one run and prints the ATE of both and their ratio (bar: with <= 0.5 x without), the
 // loops found, and the cost per frame as multiples of the yardstick Y.
 //

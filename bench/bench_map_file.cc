@@ -1,9 +1,9 @@
-// Map-file benchmark (issue 20): session 1 of a preset builds and saves a map; session 2 (the same
-// room from another standpoint) relocalizes in it and tracks it, localization only and extending
-// it. Prints the file size per keyframe, load and save times, the relocalization latency (frames
-// from session 2's first view of mapped structure, and the time of a frame spent relocalizing) as
-// multiples of Y, and session 2's ATE in session 1's frame (session 1's alignment, no fit of its
-// own).
+// Map-file benchmark (docs/map-files.md): session 1 of a preset builds and saves a map; session 2
+// (the same room from another standpoint) relocalizes in it and tracks it, localization only and
+// extending it. Prints the file size per keyframe, load and save times, the relocalization latency
+// (frames from the first frame where session 2 sees mapped structure, and the time of a frame spent
+// relocalizing) as multiples of Y, and the ATE of session 2 in the world frame of session 1 (the
+// alignment of the map's own run, no fit of its own).
 //
 //   bench_map_file [--presets static_xyz,walking_xyz] [--cache DIR] [--frames N] [--markdown FILE]
 //
@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     const double y_apart = lrd::bench::sequence_yardstick_ms(s2);
     const fs::path out = fs::path("out/bench/map_file") / preset;
 
-    // Session 1 makes the map; its alignment to the truth is the world frame of every session.
+    // Session 1 saves the map it builds; its alignment to the truth is every session's world frame.
     lrd::runner::RunOptions o1;
     o1.sequence = s1;
     o1.out = out / "session1";
@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
                                    static_cast<double>(std::max<std::size_t>(1, r1.map.keyframes));
     const FileTimes times = time_load_and_save(o1, *o1.save_map, out / "again.lrdmap");
 
-    // Session 2, localization only, then extending the map.
+    // Session 2 loads the map: localization only, then extending it.
     lrd::runner::RunOptions o2 = o1;
     o2.sequence = s2;
     o2.out = out / "session2_localization";
@@ -124,19 +124,21 @@ int main(int argc, char** argv) {
 
     const auto index = [](const std::optional<std::size_t>& v) { return v ? std::to_string(*v) : "-"; };
     std::printf(
-        "%s (%s): Y %.1f ms; session 1: %zu keyframes, %.0f KB/keyframe, ATE %.2f cm; load %.1f ms (%.2f Y), "
-        "save %.1f ms (%.2f Y), same bytes: %s\n",
+        "%s (%s): Y %.1f ms; session 1 made %zu keyframes, %.0f KB/keyframe, ATE %.2f cm; "
+        "load %.1f ms (%.2f Y), save %.1f ms (%.2f Y), same bytes: %s\n",
         preset.c_str(), mode.c_str(), y, r1.map.keyframes, kb_per_keyframe, 100 * r1.ate_rmse, times.load_ms,
         times.load_ms / y, times.save_ms, times.save_ms / y, times.same_bytes ? "yes" : "NO");
     std::printf(
-        "  session 2 localization only: first view of the map at frame %s, localized at %s (%s frames), "
-        "%.1f ms a frame while relocalizing (%.2f Y); %zu/%zu tracked; ATE in session 1's frame %.2f cm; "
-        "keyframes %zu -> %zu\n",
+        "  session 2 in localization-only mode: first view of the map at frame %s, "
+        "localized at %s (%s frames), %.1f ms a frame while relocalizing (%.2f Y); %zu/%zu tracked; "
+        "ATE in the map's frame %.2f cm; keyframes %zu -> %zu\n",
         index(r2.localization.first_view_frame).c_str(), index(r2.localization.first_localized_frame).c_str(),
         index(r2.localization.frames()).c_str(), r2.not_localized_median_ms, r2.not_localized_median_ms / y,
         r2.tracked, r2.frames, loc_ate, r2.map.loaded_keyframes, r2.map.keyframes);
-    std::printf("  session 2 extending: %zu loops, keyframes %zu -> %zu, ATE in session 1's frame %.2f cm\n",
-                r3.loops.size(), r3.map.loaded_keyframes, r3.map.keyframes, ext_ate);
+    std::printf(
+        "  session 2 in map-extending mode: %zu loops, keyframes %zu -> %zu, "
+        "ATE in the map's frame %.2f cm\n",
+        r3.loops.size(), r3.map.loaded_keyframes, r3.map.keyframes, ext_ate);
     std::fflush(stdout);
     md << fmt::format(
         "| {} | {} | {:.1f} | {} | {:.0f} | {:.1f} ms ({:.2f} Y) | {:.1f} ms ({:.2f} Y) | {} | {} | {} | {} "
@@ -148,7 +150,7 @@ int main(int argc, char** argv) {
         r2.not_localized_median_ms, r2.not_localized_median_ms / y, loc_ate, ext_ate, r3.loops.size());
   }
   std::printf(
-      "bars: session 2 localized within 30 frames of its first view; loc-only ATE < 1 cm static, "
+      "bars: session 2 is localized within 30 frames of its first view; loc-only ATE < 1 cm static, "
       "< 2 cm walking (full)\n");
   if (!markdown.empty()) {
     std::ofstream(markdown) << md.str();

@@ -1,4 +1,4 @@
-// Map memory benchmark (architecture issue, item 7): a long run over one synthetic preset, played
+// Map memory benchmark (bench/results/memory.md): a long run over one synthetic preset, played
 // forwards and backwards so that the camera keeps revisiting the same room (as a robot patrolling
 // it would), printing every N frames the resident memory of the process, the map's size, the
 // bytes one keyframe and one map point hold, what deferred reclamation freed so far, and the time

@@ -1,6 +1,6 @@
 // ORB extraction speed against the yardstick Y: the median time of OpenCV's
 // cv::ORB::create(1000, 1.2f, 8)->detectAndCompute on the same grey frames. Prints Y, our
-// extractor's median, ours as a multiple of Y (issue bar: well under 1 Y) and keypoint counts.
+// extractor's median, ours as a multiple of Y (target: well under 1 Y) and keypoint counts.
 // Usage: bench_orb [TUM_SEQUENCE_DIR] [FRAMES]   (default: 30 frames of synthetic walking_xyz)
 #include <fmt/format.h>
 

@@ -1,9 +1,9 @@
-// Scale benchmark (issue 23, items 4 and 5): one long streamed synthetic run (the walking_long
+// Scale benchmark (bench/results/scale.md): one long streamed synthetic run (the walking_long
 // preset by default: 21,600 frames, laps of one room with people walking), printing every N
 // frames the per-frame time (median and mean, against the interleaved Y of the same frames), the
 // resident memory, the map's keyframes and points with the bytes each holds, and the local map
 // tracking searched; then each loop correction (pose graph) and global BA with its latency against
-// the keyframes in the map at the time; then the issue's bars.
+// the keyframes in the map at the time; then the bars of long operation.
 //
 //   bench_scale [--preset walking_long] [--seed 1] [--frames 0] [--every 1000] [--mode full]
 //               [--no-keyframe-culling] [--deterministic] [--pose-graph-sizes 250,500,...]
@@ -285,8 +285,9 @@ RunData track_all(lrd::System& slam, const lrd::synth::SyntheticSource& source,
   return run;
 }
 
-// The bars (issue 23 item 4): late frames within 10 % of early ones, against Y; a pose-graph
-// correction at 500+ keyframes under 1 s. Item 5: keyframes after lap 2 and at the end.
+// The bars of long operation: late frames within 10 % of early ones, against Y; a pose-graph
+// correction at 500+ keyframes under 1 s. Whether the map grows with the space explored, not
+// with the time spent: keyframes after lap 2 and at the end.
 std::string summary_markdown(const RunData& run, const lrd::MapStats& stats,
                              const std::vector<lrd::loop::LoopEvent>& loops,
                              const lrd::eval::AteResult& ate) {

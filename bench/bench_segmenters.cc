@@ -1,7 +1,8 @@
-// Time per frame of each segmentation preset (issue 8) through the same OnnxSegmenter the SLAM
-// thread uses (pre-processing, network, post-processing at 640x480), and of the network alone,
-// against the yardstick Y timed frame by frame between each preset's runs on the same frames.
-// Targets as ratios: "<= 15 ms" (fnet-lite) is 0.4 Y, "<= 30 ms" (selfie-landscape) is 0.75 Y.
+// Time per frame of each segmentation preset (bench/results/segmenters.md) through the same
+// OnnxSegmenter the SLAM thread uses (pre-processing, network, post-processing at 640x480), and of
+// the network alone, against the yardstick Y timed frame by frame between each preset's runs on the
+// same frames. Targets as ratios: "<= 15 ms" (fnet-lite) is 0.4 Y, "<= 30 ms" (selfie-landscape) is
+// 0.75 Y.
 // Usage: bench_segmenters [--frames N] [--espnet FILE.onnx] [--photos DIR] [--out FILE.md]
 //   Presets whose model is absent are listed as such (selfie: scripts/fetch-models.sh).
 //   --photos: real photographs (default ../shared/data/people, or $LRD_SHARED_DIR/data/people): a
@@ -119,9 +120,10 @@ int main(int argc, char** argv) {
           lrd::segmentation::onnx_preset(name, name == "espnetv2-voc" ? espnet : std::string{});
       lrd::segmentation::OnnxSegmenter seg(params);
       r.input = fmt::format("{}x{}", params.input_width, params.input_height);
-      // The network alone, as the issue's "ms per frame in OpenCV DNN" reads: a second copy of the
-      // model, fed a ready blob (pixel values do not change its time); with our kernels as the
-      // segmenter has them (segmentation.onnx.own_kernels), and a third copy with OpenCV's only.
+      // The network alone, as fnet-lite's target "ms per frame in OpenCV DNN" reads: a second copy
+      // of the model, fed a ready blob (pixel values do not change its time); with our kernels as
+      // the segmenter has them (segmentation.onnx.own_kernels), and a third copy with OpenCV's
+      // only.
       const cv::Size in(params.input_width, params.input_height);
       const cv::Mat blob =
           cv::dnn::blobFromImage(bgr[0], params.scale, in, cv::Scalar(), true, false, CV_32F);
@@ -188,9 +190,9 @@ int main(int argc, char** argv) {
       "(`segmentation.onnx.own_kernels`, the default) and with OpenCV's layers only. Y = {:.2f} ms "
       "overall: median `cv::ORB` detectAndCompute on "
       "the same frames, timed frame by frame between each preset's runs; each row's ratios use the Y "
-      "timed beside it (column Y). Targets are judged on the network alone for `fnet` (issue 6: "
-      "\"ms per frame in OpenCV DNN\") and on the whole call for `selfie-landscape` (issue 8: \"time per "
-      "frame of each preset\").\n\n"
+      "timed beside it (column Y). Targets are judged on the network alone for `fnet` (its target: "
+      "\"ms per frame in OpenCV DNN\") and on the whole call for `selfie-landscape` (its target: \"time "
+      "per frame of each preset\").\n\n"
       "| preset | input | Y ms | network ms | × Y | OpenCV layers only ms | × Y | whole call ms | × Y | "
       "target |\n"
       "|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n",

@@ -1,4 +1,4 @@
-// SLAM core benchmark (issue: SLAM core): runs `lrdslam run`'s pipeline over synthetic presets
+// SLAM core benchmark (bench/results/slam_core.md): runs `lrdslam run`'s pipeline over synthetic presets
 // and prints accuracy (ATE/RPE against ground truth) and time per frame, per stage, as
 // milliseconds and as multiples of the yardstick Y measured on the same sequence's frames.
 //

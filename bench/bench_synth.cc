@@ -1,6 +1,6 @@
 // Synthetic benchmark generation speed: render time per frame (single thread) split into its
 // stages, PNG encoding, and the whole `write_sequence` throughput on all cores.
-// Issue bar: a 900-frame sequence in under a minute on 2 cores.
+// Bar: a 900-frame sequence in under a minute on 2 cores.
 // Usage: bench_synth [PRESET] [FRAMES] [clean|tum]
 #include <fmt/format.h>
 
@@ -47,8 +47,9 @@ int run(int argc, char** argv) {
   fmt::print("realism profile: {}\n", realism);
   const lrd::synth::SyntheticSequence seq(opt);
 
-  // Y timed frame by frame right after each frame's rendering and encoding (issue 23: the
-  // yardstick shares the machine's state with the work it divides).
+  // Y timed frame by frame right after each frame's rendering and encoding (interleaved Y,
+  // bench/results/performance.md: the yardstick shares the machine's state with the work it
+  // divides).
   auto orb = cv::ORB::create(1000, 1.2f, 8);
   std::vector<double> render_ms, encode_ms, y_ms;
   for (int i = 0; i < std::min(frames, 30); ++i) {
@@ -83,7 +84,7 @@ int run(int argc, char** argv) {
   std::filesystem::remove_all(out);
   const auto s = lrd::synth::write_sequence(seq, out);
   std::filesystem::remove_all(out);
-  // Bars: clean under a minute, tum (issue 21) under three.
+  // Bars: clean under a minute, the tum realism profile under three.
   fmt::print("{}: {} frames written in {:.1f} s ({:.1f} frames/s, {:.2f} s per 900 frames; bar: < {} s)\n",
              preset, s.frames, s.seconds, s.frames / s.seconds, 900.0 * s.seconds / s.frames,
              realism == "tum" ? 180 : 60);

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Divergence hunt (reliability issue, item 1): many threaded `lrdslam run`s of the walking presets
+"""Divergence hunt (bench/results/divergence.md): many threaded `lrdslam run`s of the walking presets
 under CPU load, printing per run the ATE, the largest jump between consecutive frames, and the loops
 accepted and rejected, the frames lost and those lost for moving faster than a camera does
 (tracking.max_camera_speed: tracking followed a person).
@@ -9,7 +9,7 @@ accepted and rejected, the frames lost and those lost for moving faster than a c
                              [--bin build/release/bin/lrdslam] [--log-level debug] [--config FILE]
 
 --load N starts N busy processes (one per core by default) for the whole hunt, so the threads
-interleave as they do on a loaded robot. Bars (the issue's): in `static` mode no run with a jump
+interleave as they do on a loaded robot. Bars: in `static` mode no run with a jump
 over 0.5 m or an ATE over 2 m; in `full` mode every run within 2 cm. Exit status 1 when a bar fails.
 """
 import argparse

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Profile of an lrd-slam run per thread and per stage (issue 23, item 1).
+"""Profile of an lrd-slam run per thread and per stage (bench/results/profile.md).
 
     perf record -F 999 -o perf.data -- build/release/bin/lrdslam run --sequence SEQ --mode full --out OUT
     bench/perf_stages.py perf.data [--top 12]

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The node against the CLI (ROS issue, item 7): per-frame tracking time of lrdslam_ros fed by
+"""The node against the CLI (bench/results/ros_node.md): per-frame tracking time of lrdslam_ros fed by
 `rosbag play` and of `lrdslam run --bag --realtime` on the same bag, both at the camera's pace,
 interleaved (CLI, node, CLI, node, ...), each reported against Y measured between them (bench_orb
 on the same frames). Bar: the node's median within 10 % of the CLI's.

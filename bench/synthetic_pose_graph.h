@@ -1,11 +1,11 @@
 #pragma once
-// Essential graphs of any size shaped like loop closing's (bench_scale, issue 23 item 4): a
+// Essential graphs of any size shaped like loop closing's (bench_scale, bench/results/scale.md): a
 // camera touring a room in laps, `keyframes_per_lap` keyframes a lap; each keyframe linked to its
 // spanning-tree parent (the previous one), to its strongest covisible neighbours (the ones just
-// before it, up to `edges_per_keyframe` edges in all) and to the keyframe a lap before (the
-// map's revisits); odometry drift accumulated along the chain, and the new loop edge from the
-// last keyframe to the first lap measured without drift. It times optimize_pose_graph at a map
-// size no run of ours reaches by loop detection (the map stops growing in one room).
+// before it, up to `edges_per_keyframe` edges in all) and to the keyframe a lap before (the map's
+// revisits); odometry drift accumulated along the chain, and the new loop edge from the last
+// keyframe to the first lap measured without drift. It times optimize_pose_graph at a map size no
+// run of ours reaches by loop detection (the map stops growing in one room).
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>

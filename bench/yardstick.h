@@ -12,11 +12,11 @@ namespace lrd::bench {
 using util::median_of;
 using util::yardstick_ms;
 
-// Y of one run made with RunOptions::yardstick (issue 23): the median of OpenCV's ORB timed on
-// each frame's grey image in the tracking thread, right after our own extraction, under the same
-// competition from the other threads. The first call in a benchmark prints it beside `apart_ms`, Y
-// measured the old way (sequence_yardstick_ms: up to 100 frames in a tight loop before the runs),
-// so that the change of basis is on record.
+// Y of one run made with RunOptions::yardstick (bench/results/performance.md): the median of
+// OpenCV's ORB timed on each frame's grey image in the tracking thread, right after our own
+// extraction, under the same competition from the other threads. The first call in a benchmark
+// prints it beside `apart_ms`, Y measured apart (sequence_yardstick_ms: up to 100 frames in a tight
+// loop before the runs), so that the change of basis is on record.
 inline double run_yardstick_ms(const runner::RunReport& report, double apart_ms) {
   const double y = report.yardstick.median_ms;
   if (!(y > 0.0)) throw std::runtime_error("the run measured no yardstick (RunOptions::yardstick is off)");

@@ -1,7 +1,8 @@
-// The page of a benchmark (issue 24): bench_dynamic's tables as the paper gives them (Tables 4-7:
-// ATE and RPE; Table 10: time per frame; the improvement rate eta, Eq. 12) and per preset every
-// mode's trajectory against the ground truth on one plot. src/lrd/report/benchmark_data.cc put the
-// data into #report-data; uPlot and common.js are inlined before this script.
+// The page of a benchmark (docs/report.md): bench_dynamic's tables as the paper gives them
+// (Tables 4-7: ATE and RPE; Table 10: time per frame; the improvement rate eta, Eq. 12) and per
+// preset every mode's trajectory against the ground truth on one plot.
+// src/lrd/report/benchmark_data.cc put the data into #report-data; uPlot and common.js are inlined
+// before this script.
 (function () {
   "use strict";
   const data = JSON.parse(document.getElementById("report-data").textContent);

@@ -1,4 +1,4 @@
-// Helpers of the report pages (issue 24): the run page (report.js) and the benchmark page
+// Helpers of the report pages (docs/report.md): the run page (report.js) and the benchmark page
 // (benchmark.js) are drawn with these and uPlot, all inlined into one HTML file.
 window.lrdCommon = (function () {
   "use strict";

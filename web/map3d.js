@@ -1,6 +1,7 @@
-// The 3-D map of the run page (issue 24): the dense map, the sparse map's points and the keyframes
-// drawn with three.js (inlined before this script when the run wrote a map), from three
-// viewpoints; drag to orbit, wheel to zoom, right-drag to pan. Data: src/lrd/report/map_view_data.cc.
+// The 3-D map of the run page (docs/report.md): the dense map, the sparse map's points and the
+// keyframes drawn with three.js (inlined before this script when the run wrote a map), from three
+// viewpoints; drag to orbit, wheel to zoom, right-drag to pan.
+// Data: src/lrd/report/map_view_data.cc.
 window.lrdMap3d = (function () {
   "use strict";
   const {el} = window.lrdCommon;

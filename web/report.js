@@ -1,6 +1,6 @@
-// The page of `lrdslam report` (issue 24): draws the run data that src/lrd/report/run_data.cc put
-// into #report-data with uPlot and common.js (inlined before this script). No network: everything
-// is in the page.
+// The page of `lrdslam report` (docs/report.md): draws the run data that src/lrd/report/run_data.cc
+// put into #report-data with uPlot and common.js (inlined before this script). No network:
+// everything is in the page.
 (function () {
   "use strict";
   const data = JSON.parse(document.getElementById("report-data").textContent);

@@ -1,4 +1,4 @@
-"""Issue 22 item 4: a corpus of bad inputs, generated at test time from one valid synthetic sequence.
+"""A corpus of bad inputs, generated at test time from one valid synthetic sequence.
 
 Each case copies what it needs of a 12-frame `walking_xyz` render (images as symbolic links, so a
 case costs a few kilobytes), applies ONE corruption and runs `lrdslam run` on it (under ctest the

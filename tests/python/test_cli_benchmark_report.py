@@ -1,4 +1,4 @@
-"""The benchmark page (issue 24): `lrdslam report BENCH_DIR` on a folder bench_dynamic wrote
+"""The benchmark page (docs/report.md): `lrdslam report BENCH_DIR` on a folder bench_dynamic wrote
 (results.json, runs/PRESET/MODE/) shows the results and, per preset, every mode's trajectory aligned
 onto the ground truth; bench_dynamic writes the same page as report.html. Bad folders stop with one
 line naming the file."""

@@ -1,9 +1,9 @@
-"""Tracking that follows a person (reliability issue 22, item 1): in `static` mode, nothing removes
-people, and where a person walking past fills much of the view tracking moves the camera at their
-pace. Over tracking.max_camera_speed (over 0.2 s) the frame is tracked again from the pose where
-that stride began (and kept so when that is within the limit), and the frames that followed are
-placed again between the two; without the limit tracking stays with the person for frames. The first 45
-frames of walking_halfsphere do it twice."""
+"""Tracking that follows a person (docs/slam-core.md, "Moving faster than a camera"): in `static`
+mode, nothing removes people, and where a person walking past fills much of the view tracking moves
+the camera at their pace. Over tracking.max_camera_speed (over 0.2 s) the frame is tracked again
+from the pose where that stride began (and kept so when that is within the limit), and the frames
+that followed are placed again between the two; without the limit tracking stays with the person for
+frames. The first 45 frames of walking_halfsphere do it twice."""
 import json
 import re
 

@@ -1,9 +1,9 @@
-"""`lrdslam run --dense` (issue 7) on a short synthetic walking sequence in full mode: the people's
-pixels in the keyframes are repaired with the static scene's depth, the dense map has no ghosts of
-people and covers what the camera saw (judged against scene.ply), `eval-map` agrees with the run,
-the PLY is readable, and the dense map is byte-identical in deterministic mode. The same run writes
-the occupancy map and 2-D grid (issue 25): OctoMap and map_server files, judged against the scene
-(precision, recall, no people on the grid along their paths)."""
+"""`lrdslam run --dense` (docs/dense-map.md) on a short synthetic walking sequence in full mode: the
+people's pixels in the keyframes are repaired with the static scene's depth, the dense map has no
+ghosts of people and covers what the camera saw (judged against scene.ply), `eval-map` agrees with
+the run, the PLY is readable, and the dense map is byte-identical in deterministic mode. The same
+run writes the occupancy map and 2-D grid (docs/occupancy.md): OctoMap and map_server files, judged
+against the scene (precision, recall, no people on the grid along their paths)."""
 import json
 import re
 import shutil
@@ -126,7 +126,7 @@ def test_occupancy_map_and_grid_match_the_scene_without_the_people(dense_run):
     assert o["resolution"] == 0.05
     assert o["occupied_voxels"] > 1000 and o["free_voxels"] > 10 * o["occupied_voxels"] / 2
     scene = o["scene"]
-    assert scene["precision"] >= 0.95  # issue 25's bars, full mode
+    assert scene["precision"] >= 0.95  # the bars in docs/occupancy.md, full mode
     assert scene["recall"] >= 0.90
     assert scene["people_voxels"] > 100  # the people were there to be carved
     assert scene["people_ghost_share"] <= 0.01

@@ -1,8 +1,9 @@
-"""Map files from the command line (issue 20): session 1 of a preset saves its map; session 2 (the
-same room from another standpoint, `synth --session 2`) starts turned away from it, relocalizes
-within 30 frames of its first view of mapped structure, and, localization only, is tracked in
-session 1's frame (judged with session 1's alignment, no fit of its own) without touching the map
-file; extending the map saves a larger one; bad map files stop the run with one line."""
+"""Map files from the command line (docs/map-files.md): session 1 of a preset saves its map;
+session 2 (the same room from another standpoint, `synth --session 2`) starts turned away from it,
+relocalizes within 30 frames of its first view of mapped structure, and, localization only, is
+tracked in the world frame of map-file session 1 (judged with its alignment, no fit of its own)
+without touching the map file; extending the map saves a larger one; bad map files stop the run
+with one line."""
 import hashlib
 import json
 
@@ -11,7 +12,7 @@ import pytest
 
 from cli import lrdslam, synth_input
 
-FRAMES = 180  # session 2 turns towards session 1's view over its first 120 frames
+FRAMES = 180  # map-file session 2 turns towards the first session's view over its first 120 frames
 
 
 def summary(out):
@@ -49,7 +50,7 @@ def test_session_two_localizes_in_session_ones_map(sessions, tmp_path):
     assert m["localization_only"] and m["loaded_keyframes"] == s["keyframes"] > 2, s
     assert s["map_points"] == m["loaded_map_points"], s
     # It starts turned away: not localized at first (a state, not a loss), then placed within 30
-    # frames of the first frame that sees what session 1 mapped.
+    # frames of the first frame that sees what the map holds.
     assert s["not_localized"] == m["first_localized_frame"] > 0, s
     assert m["first_view_frame"] is not None and m["first_view_frame"] > 0, m
     assert m["relocalization_frames"] <= 30, m
@@ -62,7 +63,8 @@ def test_session_two_localizes_in_session_ones_map(sessions, tmp_path):
 
 
 def test_walking_session_two_localizes_within_two_centimetres_in_full_mode(tmp_path):
-    # People walk through the part session 1 mapped; both sessions run `full` (FNet + geometry).
+    # People walk through the mapped part of the room; both map-file sessions run `full`
+    # (FNet + geometry).
     d = tmp_path
     for n in (1, 2):
         synth_input("--preset", "walking_xyz", "--session", n, "--frames", 160, "--out", d / f"s{n}")
@@ -87,7 +89,7 @@ def test_session_two_extends_the_map(sessions, tmp_path):
     assert s["map_file"]["saved"] == str(tmp_path / "merged.lrdmap")
     assert (tmp_path / "merged.lrdmap").stat().st_size > (d / "s1.lrdmap").stat().st_size
     assert ate_in_session_one_frame(d, out)["rmse"] < 0.01
-    # The merged map loads again, and session 1 localizes in it at once.
+    # The merged map loads again, and session 1 is localized in it at once.
     out1 = tmp_path / "again"
     lrdslam("run", "--sequence", d / "s1", "--mode", "static", "--quiet", "--out", out1, "--load-map",
             tmp_path / "merged.lrdmap", "--localization-only", "--max-frames", 40)
@@ -95,8 +97,9 @@ def test_session_two_extends_the_map(sessions, tmp_path):
 
 
 def test_a_second_session_closes_a_loop_into_the_old_map(tmp_path):
-    # static_loop at 2.5x: one lap is 200 frames. Session 1 maps 130 frames of it; session 2 (from
-    # 0.58 m aside) relocalizes in that part, maps the rest of the lap and comes back into it.
+    # static_loop at 2.5x: one lap is 200 frames. Session 1 sees 130 frames of it and maps them;
+    # map-file session 2 (0.58 m aside) relocalizes in that part, maps the rest of the lap and comes
+    # back into it.
     for n, frames in ((1, 130), (2, 250)):
         synth_input("--preset", "static_loop", "--camera-speed", 2.5, "--session", n, "--frames", frames,
                 "--out", tmp_path / f"s{n}")

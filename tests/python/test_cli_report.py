@@ -1,4 +1,4 @@
-"""The HTML report (issue 24): `run --report` and `lrdslam report RUN_DIR` write one page that
+"""The HTML report (docs/report.md): `run --report` and `lrdslam report RUN_DIR` write one page that
 holds everything it shows (no network), whose data agree with the run's own files; bad run folders
 stop with one line naming the file. tests/python/test_report_browser.py opens the page in Chromium."""
 import base64

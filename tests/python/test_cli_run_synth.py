@@ -1,6 +1,7 @@
-"""`lrdslam run --synth PRESET`: frames rendered on the fly (issue 23, item 2). The streamed run
-equals the run over the folder `lrdslam synth` writes, byte for byte in deterministic mode; it
-writes nothing but its outputs and its ground truth; bad options are one-line errors."""
+"""`lrdslam run --synth PRESET`: frames rendered on the fly (the long runs of
+bench/results/scale.md). The streamed run equals the run over the folder `lrdslam synth` writes,
+byte for byte in deterministic mode; it writes nothing but its outputs and its ground truth; bad
+options are one-line errors."""
 import json
 
 import pytest

@@ -1,6 +1,7 @@
-"""`lrdslam segment --model PRESET IMAGE... --out DIR` (issue 8): masks, overlays and label maps
-that agree with ground truth (our FNet on synthetic frames) and with the reference masks of a real
-model (ESPNetv2 from ../shared); the default segmenter a semantic run picks; one-line errors."""
+"""`lrdslam segment --model PRESET IMAGE... --out DIR` (segmentation presets): masks, overlays and
+label maps that agree with ground truth (our FNet on synthetic frames) and with the reference masks
+of a real model (ESPNetv2 from ../shared); the default segmenter a semantic run picks; one-line
+errors."""
 import json
 import os
 from pathlib import Path

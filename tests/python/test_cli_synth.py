@@ -146,7 +146,8 @@ def test_realism_tum_records_its_effects_and_the_users_calibration(tmp_path):
 
 def test_realism_tum_moves_the_camera_as_fast_as_tums_sequence():
     # The whole preset's motion (no frame rendered), as TUM's statistics script computes it, within
-    # the 15 % of the figures TUM publishes for fr3/walking_rpy (0.091 m/s, 20.90 deg/s).
+    # 15 % (the target of docs/synthetic-benchmark.md, "Camera motion against TUM's") of the figures
+    # TUM publishes for fr3/walking_rpy (0.091 m/s, 20.90 deg/s).
     def speeds(*extra):
         out = run("synth", "--preset", "walking_rpy", "--motion-stats", *extra)
         assert out.returncode == 0, out.stderr

@@ -1,4 +1,4 @@
-"""Tracking loss is a state (reliability issue, item 5): in every hard case the run goes on, the
+"""Tracking loss is a state: in every hard case the run goes on, the
 frames that cannot be tracked are reported lost, tracking relocalizes when the view comes back,
 and no pose jumps. Each case is a synthetic sequence whose frames FROM..TO are made hard here: a
 covered lens (`synth --blank`), a blank wall filling the view, a violent shake (frames rolled by

@@ -1,7 +1,7 @@
-"""The HTML report in a real browser (issue 24): Debian's headless Chromium opens the page of a
-short run from a file:// URL with the network off; the test fails on any console message (an
-uncaught error, a resource that did not load), checks that every chart the page promises was
-drawn, and that each chart's, map's and sample frame's region of a screenshot is not blank."""
+"""The HTML report in a real browser (docs/report.md): Debian's headless Chromium opens the page of
+a short run from a file:// URL with the network off; the test fails on any console message (an
+uncaught error, a resource that did not load), checks that every chart the page promises was drawn,
+and that each chart's, map's and sample frame's region of a screenshot is not blank."""
 import json
 import re
 import shutil

@@ -1,7 +1,7 @@
-// DenseMapper (issue 7): keyframes' clouds follow their keyframes' current poses (local BA and
-// loop closing move them after the fact), the map leaves people out, and an error in the dense
-// thread comes back from shutdown() instead of ending the process; dense.max_memory_mb caps the
-// stored clouds (issue 23, item 4).
+// DenseMapper (docs/dense-map.md): keyframes' clouds follow their keyframes' current poses (local
+// BA and loop closing move them after the fact), the map leaves people out, and an error in the
+// dense thread comes back from shutdown() instead of ending the process; dense.max_memory_mb caps
+// the stored clouds (bench/results/scale.md, "Dense map memory").
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -31,8 +31,9 @@ void make_chain(Graph& g, int n, std::vector<KeyFrame*>& chain) {
 }
 }  // namespace
 
-// The plausibility measure of loop corrections and global BA results (reliability issue): each
-// keyframe against its spanning-tree parent, after against before.
+// The plausibility measure of loop corrections and global BA results (the divergence hunt,
+// bench/results/divergence.md): each keyframe against its spanning-tree parent, after against
+// before.
 TEST(EssentialGraph, OdometryChangeNamesTheEdgeASolutionTearsMost) {
   Graph g;
   std::vector<KeyFrame*> chain;

@@ -1,6 +1,6 @@
 // The shipped FNet-lite model (models/fnet-lite.onnx) through our `onnx` backend, on synthetic
 // frames it never saw: its training data come from seeds >= 1000 (`lrdslam synth --export-voc`),
-// these from the benchmark's evaluation seed 1. Bar (issue 6): person IoU >= 0.8.
+// these from the benchmark's evaluation seed 1. Bar (models/fnet-lite.md): person IoU >= 0.8.
 #include <gtest/gtest.h>
 
 #include <cstdio>

@@ -1,6 +1,6 @@
-// The harder dynamic content of issue 21: a seated person who stands up after several seconds and
-// walks out of the view (sitting_standup), and a person walking at the camera until they fill most
-// of the view beside one cut by the image border (walking_close).
+// The harder dynamic content (docs/synthetic-benchmark.md): a seated person who stands up after
+// several seconds and walks out of the view (sitting_standup), and a person walking at the camera
+// until they fill most of the view beside one cut by the image border (walking_close).
 #include <gtest/gtest.h>
 
 #include <cmath>

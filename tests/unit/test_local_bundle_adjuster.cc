@@ -214,10 +214,10 @@ TEST(LocalBundleAdjustment, RecoversPosesAndPointsAndRemovesOutliers) {
   }
 }
 
-// A result that changes a pair of keyframes more than the limits allow (issue 22: BA pulling
-// keyframes onto wrongly fused points) solves again with the pair held where it was; beyond
-// max_held_pairs pairs it is refused whole: the change reported, no pose, point or observation
-// touched. Here the limit sits below the drift this problem removes (3-4 cm a keyframe).
+// A result that changes a pair of keyframes more than the limits allow (BA pulling keyframes onto
+// wrongly fused points) solves again with the pair held where it was; beyond max_held_pairs pairs
+// it is refused whole: the change reported, no pose, point or observation touched. Here the limit
+// sits below the drift this problem removes (3-4 cm a keyframe).
 TEST(LocalBundleAdjustment, AResultBeyondTheOdometryLimitsHoldsThePairOrIsRefusedWhole) {
   Problem p;
   std::vector<Eigen::Isometry3d> poses_before;

@@ -260,13 +260,13 @@ TEST(LoopCloser, ACorrectionThatWouldTearTheSpanningTreeIsRefused) {
   EXPECT_GT(allowed.edge_change_m, 0.25);
 }
 
-// Issue 22 (walking_xyz static, bench/results/divergence.md): tracking followed people into a
-// drifted copy of the room, lost it, and relocalized a frame later in the old copy, a metre away.
+// A divergence run (walking_xyz static, bench/results/divergence.md): tracking followed people into
+// a drifted copy of the room, lost it, and relocalized a frame later in the old copy, a metre away.
 // Two keyframes of the second visit are one short of a detected loop; the relocalization suggests
 // one, with where it puts the last of them (the camera moved 2 cm and half a degree while lost).
-// Verified, it closes: both keyframes where the views really were. Suggested again, nothing
-// more happens; a guess that does not hold (60 cm and 11 degrees off), or a keyframe of another place, closes
-// nothing and moves nothing.
+// Verified, it closes: both keyframes where the views really were. Suggested again, nothing more
+// happens; a guess that does not hold (60 cm and 11 degrees off), or a keyframe of another place,
+// closes nothing and moves nothing.
 struct SuggestionScene {
   lrd::map::KeyFrameDatabase db;
   LoopScene s{&db};

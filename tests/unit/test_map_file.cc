@@ -1,6 +1,6 @@
-// Map files (issue 20): save -> load -> save gives the same bytes, the loaded map equals the saved
-// one, frames relocalize in a loaded map and are tracked in its frame, localization only adds
-// nothing, and every bad file stops with one line naming it.
+// Map files (docs/map-files.md): save -> load -> save gives the same bytes, the loaded map equals
+// the saved one, frames relocalize in a loaded map and are tracked in its frame, localization only
+// adds nothing, and every bad file stops with one line naming it.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -1,6 +1,7 @@
 // Dilating a dynamic mask by a disc and carrying an older mask over to the current frame at half
-// resolution (the asynchronous segmentation's masks, issue 23's speed work): exact where they
-// promise it, covering the exact result where they work coarser.
+// resolution (the asynchronous segmentation's masks; mask carry-over in
+// bench/results/performance.md): exact where they promise it, covering the exact result where they
+// work coarser.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
-// The realism profile's camera motion (issue 21): each walking/sitting preset's path made as fast
-// as the TUM fr3 sequence it mirrors, by TUM's own 1-s statistics.
+// The realism profile's camera motion (docs/synthetic-benchmark.md): each walking/sitting preset's
+// path made as fast as the TUM fr3 sequence it mirrors, by TUM's own 1-s statistics.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -74,8 +74,8 @@ TEST(MotionMatching, NoHandHeldMotionIsTheSmoothPathAndSessionsShareIt) {
   CameraMotion one = smooth, two(spec.motion, d, 3, 2);
   one.set_hand_held(hand);
   two.set_hand_held(hand);
-  // Session 2 is session 1's hand-held path seen from its own standpoint: after the first 4 s the
-  // relative transform between them is constant.
+  // Map-file session 2 is the hand-held path of session 1 seen from its own standpoint: after the
+  // first 4 s the relative transform between them is constant.
   const Eigen::Isometry3d at5 = two.pose_at(5.0) * one.pose_at(5.0).inverse();
   const Eigen::Isometry3d at20 = two.pose_at(20.0) * one.pose_at(20.0).inverse();
   EXPECT_TRUE(at5.isApprox(at20, 1e-9));

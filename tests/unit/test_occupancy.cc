@@ -1,6 +1,6 @@
-// The occupancy stage (issue 25): ray casting marks free space along each ray and a surface at
-// its end, carving removes a person who walked on (not one who never moved), the floor and the
-// 2-D grid, map_server files read back, bad settings as one-line errors, and the evaluator.
+// The occupancy stage (docs/occupancy.md): ray casting marks free space along each ray and a
+// surface at its end, carving removes a person who walked on (not one who never moved), the floor
+// and the 2-D grid, map_server files read back, bad settings as one-line errors, and the evaluator.
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 

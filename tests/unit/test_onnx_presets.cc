@@ -1,7 +1,7 @@
-// Segmentation presets (issue 8): each preset's pre/post-processing, the `segmentation.preset`
-// config key, the default segmenter per kind of data, and the MediaPipe selfie models converted by
-// our own tools/tflite2onnx reproducing the reference masks in ../shared (skipped without it, or
-// before scripts/fetch-models.sh has converted them).
+// Segmentation presets (bench/results/segmenters.md): each preset's pre/post-processing, the
+// `segmentation.preset` config key, the default segmenter per kind of data, and the MediaPipe
+// selfie models converted by our own tools/tflite2onnx reproducing the reference masks in ../shared
+// (skipped without it, or before scripts/fetch-models.sh has converted them).
 #include <gtest/gtest.h>
 
 #include <cstdlib>

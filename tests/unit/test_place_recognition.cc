@@ -131,8 +131,9 @@ TEST(PlaceRecognition, ClosesTheLoopWhereTheCameraReturns) {
   EXPECT_GT(loop.frame_id, 100u);  // after most of the lap
   EXPECT_LT(loop.frame_id, 180u);
   EXPECT_LT(loop.loop_keyframe_id, 10u);  // back at the start
-  // Its size and latency (bench_scale, issue 23): the keyframes then in the map (ids from 0, some
-  // culled), at least a spanning tree of edges, and the one global BA that followed it.
+  // Its size and latency (bench_scale, bench/results/scale.md): the keyframes then in the map (ids
+  // from 0, some culled), at least a spanning tree of edges, and the one global BA that followed
+  // it.
   EXPECT_GT(loop.keyframes, 10u);
   EXPECT_LE(loop.keyframes, loop.keyframe_id + 1);
   EXPECT_GE(loop.pose_graph_edges, loop.keyframes - 1);

@@ -1,5 +1,6 @@
-// The `tum` realism profile (issue 21): each effect on hand-made images with a known answer, and
-// a rendered frame whose static view, determinism and ground truth keep their contracts.
+// The `tum` realism profile (docs/synthetic-benchmark.md): each effect on hand-made images with a
+// known answer, and a rendered frame whose static view, determinism and ground truth keep their
+// contracts.
 #include <gtest/gtest.h>
 
 #include <cmath>

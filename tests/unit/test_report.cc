@@ -1,4 +1,4 @@
-// The HTML report's parts that need no run (issue 24): base64 for the inlined images and the
+// The HTML report's parts that need no run (docs/report.md): base64 for the inlined images and the
 // track_times.txt reader. tests/python/test_cli_report.py and test_report_browser.py check pages.
 #include <gtest/gtest.h>
 

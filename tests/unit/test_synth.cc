@@ -83,7 +83,8 @@ TEST(SynthPresets, UnknownPresetNamesTheValidOnes) {
 }
 
 TEST(SynthPresets, TheLongPresetToursTheRoomForTwelveMinutesAndRevisits) {
-  // Issue 23's long preset: >= 20,000 frames, laps with revisits, people walking, a hand-held pace.
+  // The long preset (bench/results/scale.md): >= 20,000 frames, laps with revisits, people walking,
+  // a hand-held pace.
   const SyntheticSequence seq(options("walking_long", -1));
   EXPECT_GE(seq.size(), 20000);
   EXPECT_GT(seq.actor_descriptions().size(), 1u);
@@ -115,7 +116,7 @@ TEST(SynthPresets, TheLongPresetToursTheRoomForTwelveMinutesAndRevisits) {
 }
 
 TEST(SynthPresets, TheCirclePresetRepeatsOneLapWithTheLongPresetsPeople) {
-  // Issue 23 item 5's camera: the same circle for 12 minutes, so the space explored stops growing
+  // walking_circle's camera: the same circle for 12 minutes, so the space explored stops growing
   // after the first lap (bench_scale compares the keyframes after lap 2 with those at the end).
   const SyntheticSequence seq(options("walking_circle", -1));
   EXPECT_GE(seq.size(), 20000);

@@ -1,6 +1,7 @@
-// The streamed synthetic source (`lrdslam run --synth`, issue 23): its frames are the frames
-// `lrdslam synth` writes, read back; its ground truth is groundtruth.txt's; a run over it gets the
-// synthetic camera and, in a semantic mode, the network trained on the renders.
+// The streamed synthetic source (`lrdslam run --synth`; the long runs of bench/results/scale.md):
+// its frames are the frames `lrdslam synth` writes, read back; its ground truth is
+// groundtruth.txt's; a run over it gets the synthetic camera and, in a semantic mode, the network
+// trained on the renders.
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>

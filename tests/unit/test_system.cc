@@ -58,9 +58,9 @@ TEST(System, DeterministicModeGivesBitIdenticalTrajectories) {
 }
 
 TEST(SystemYardstick, IsTimedOnEveryFrameAndChangesNoPose) {
-  // SystemOptions::yardstick (issue 23): OpenCV's ORB on each frame in the tracking thread, for
-  // the benchmarks' interleaved Y; the trajectory stays the same bits. Its own suite: it adds no
-  // thread, so the tsan preset (which runs System.*) leaves it out.
+  // SystemOptions::yardstick (bench/results/performance.md): OpenCV's ORB on each frame in the
+  // tracking thread, for the benchmarks' interleaved Y; the trajectory stays the same bits. Its own
+  // suite: it adds no thread, so the tsan preset (which runs System.*) leaves it out.
   const auto& seq = static_sequence();
   lrd::SystemOptions options;
   options.deterministic = true;

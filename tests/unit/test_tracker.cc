@@ -166,9 +166,10 @@ int keyframes_while_a_person_hides_the_map(bool discount_hidden_points) {
 }
 
 TEST(Tracker, APersonHidingTheMapIsNoReasonForAKeyframe) {
-  // Issue 23 item 5: the reference keyframe's points under the person's mask are hidden, not
-  // lost; counting them made a keyframe each time someone walked past (and its points from depth
-  // duplicated the map behind the person).
+  // tracking.discount_hidden_points (docs/slam-core.md, "Keyframes with people in view"): the
+  // reference keyframe's points under the person's mask are hidden, not lost; counting them made a
+  // keyframe each time someone walked past (and its points from depth duplicated the map behind the
+  // person).
   EXPECT_EQ(keyframes_while_a_person_hides_the_map(true), 0);
   EXPECT_GE(keyframes_while_a_person_hides_the_map(false), 1);  // ORB-SLAM2's rule
 }
@@ -193,8 +194,9 @@ std::size_t largest_local_map(lrd::tracking::TrackerParams params) {
 }
 
 TEST(Tracker, TheLocalMapKeepsAtMostMaxLocalKeyframes) {
-  // Issue 23: keyframes piling up over one place must not grow tracking's local map (and its
-  // cost) without bound; those sharing the most points with the frame are kept.
+  // tracking.max_local_keyframes (bench/results/scale.md): keyframes piling up over one place must
+  // not grow tracking's local map (and its cost) without bound; those sharing the most points with
+  // the frame are kept.
   EXPECT_GT(largest_local_map({}), 2u);
   lrd::tracking::TrackerParams capped;
   capped.max_local_keyframes = 2;
@@ -267,10 +269,11 @@ void expect_placed(const SlidingFrame& frame, std::size_t k) {
 }
 
 TEST(Tracker, ACameraThatTrulyMovesFasterThanItsSpeedLimitStaysTracked) {
-  // Issue 22: over tracking.max_camera_speed (over 0.2 s) the frame is tracked again from where
-  // the stride began (tracking that followed a person finds the still map there:
-  // tests/python/test_cli_camera_speed.py); a camera that did move that fast is found where it
-  // is again, and the frame is kept as first tracked, neither lost nor pulled back.
+  // The speed limit (docs/slam-core.md, "Moving faster than a camera"): over
+  // tracking.max_camera_speed (over 0.2 s) the frame is tracked again from where the stride began
+  // (tracking that followed a person finds the still map there:
+  // tests/python/test_cli_camera_speed.py); a camera that did move that fast is found where it is
+  // again, and the frame is kept as first tracked, neither lost nor pulled back.
   int implausible = 0;
   const auto limited = creep_then_slide(0.3, implausible);
   for (std::size_t k = 0; k < limited.size(); ++k) {
@@ -314,9 +317,10 @@ std::vector<Eigen::Vector3d> follow_then_relocalize(double max_camera_speed) {
 }
 
 TEST(Tracker, FramesKeptOverTheSpeedLimitArePlacedAgainByARelocalizationSoonAfter) {
-  // Issue 22 (walking_rpy static, run 17 in bench/results/divergence.md): frames over the limit
-  // that cannot be tracked again within it keep their poses, and where tracking is then lost and
-  // relocalized against the map that stood still, the trajectory stepped back 0.84 m at once.
+  // A divergence run (walking_rpy static, run 17 in bench/results/log/divergence.md): frames over
+  // the limit that cannot be tracked again within it keep their poses, and where tracking is then
+  // lost and relocalized against the map that stood still, the trajectory stepped back 0.84 m
+  // at once.
   const auto limited = follow_then_relocalize(0.3);
   ASSERT_EQ(limited.size(), 5u);  // frames 8, 9, 10, 11 and 13
   // Placed again on the path from frame 8 (where frame 10's stride began) to frame 13, by stamp
@@ -353,10 +357,10 @@ double largest_step(const std::vector<Eigen::Vector3d>& centres) {
 }
 
 TEST(Tracker, AWayOutAndBackFasterThanTheSpeedLimitIsPlacedAgainOnThePath) {
-  // Issue 22 (walking_xyz static, bench/results/divergence.md): tracking followed a person at just
-  // under the limit and came back to the still map in one frame, a 0.52 m step where the camera
-  // moved 1 cm. Under a 0.7 m/s limit (7 cm between these frames, 0.1 s apart) the step back
-  // (19 cm) is beyond it, and within it of frame 11: frame 12 is placed again between the two.
+  // A divergence run (walking_xyz static, bench/results/log/divergence.md): tracking followed a
+  // person at just under the limit and came back to the still map in one frame, a 0.52 m step where
+  // the camera moved 1 cm. Under a 0.7 m/s limit (7 cm between these frames, 0.1 s apart) the step
+  // back (19 cm) is beyond it, and within it of frame 11: frame 12 is placed again between the two.
   const auto limited = out_and_back(0.7);
   ASSERT_EQ(limited.size(), 5u);
   EXPECT_LT((limited[4] - Eigen::Vector3d(0.05, 0, 0)).norm(), 0.01);
@@ -401,10 +405,10 @@ ComeBack come_back_after_a_loss(double max_camera_speed, double step,
 }
 
 TEST(Tracker, ARelocalizationBeyondTheSpeedLimitAfterABriefLossGivesWayToTrackingFromTheLastPose) {
-  // Issue 22: a map that drifted holds a place twice, and a relocalization a frame after a loss
-  // jumped across (1.15 m, bench/results/divergence.md). Beyond where the camera can have gone
-  // since (0.15 m in 0.2 s under a 0.3 m/s limit), tracking from the last pose is tried first;
-  // where the place is held once, it finds the same pose.
+  // A map that drifted holds a place twice, and a relocalization a frame after a loss jumped across
+  // (1.15 m, bench/results/log/divergence.md). Beyond where the camera can have gone since (0.15 m
+  // in 0.2 s under a 0.3 m/s limit), tracking from the last pose is tried first; where the place is
+  // held once, it finds the same pose.
   const Eigen::Isometry3d truth = pose(0, 0, 0, -0.195, 0, 0);
   const ComeBack limited = come_back_after_a_loss(0.3, 0.15);
   ASSERT_EQ(limited.outcome.state, TrackingState::Ok);
@@ -425,10 +429,11 @@ TEST(Tracker, ARelocalizationBeyondTheSpeedLimitAfterABriefLossGivesWayToTrackin
 }
 
 TEST(Tracker, ARelocalizationIntoASecondCopyOfThePlaceSuggestsTheLoopThatMergesThem) {
-  // Issue 22 (walking_xyz static, bench/results/divergence.md): the relocalization lands in a
-  // second copy of the place, 0.5 m away. Tracked from the last pose instead, the frame suggests
-  // the loop between the keyframe it was last tracked against and the one it relocalized against,
-  // with the first placed where the second's map says the camera is (LoopCloser verifies it).
+  // A divergence run (walking_xyz static, bench/results/log/divergence.md): the relocalization
+  // lands in a second copy of the place, 0.5 m away. Tracked from the last pose instead, the frame
+  // suggests the loop between the keyframe it was last tracked against and the one it relocalized
+  // against, with the first placed where the second's map says the camera is (LoopCloser
+  // verifies it).
   const Eigen::Isometry3d offset = pose(0, 0, 0, 0.5, 0, 0), truth = pose(0, 0, 0, -0.06, 0, 0);
   const ComeBack c = come_back_after_a_loss(0.3, 0.015, offset);
   ASSERT_EQ(c.outcome.state, TrackingState::Ok);

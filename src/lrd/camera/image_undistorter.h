@@ -1,7 +1,7 @@
 #pragma once
 // Whole images resampled to the ideal pinhole camera: the dense stage back-projects and projects
 // every pixel with fx, fy, cx, cy alone, so a keyframe's colour, depth and mask are undistorted
-// once before it (issue 21: the `tum` profile renders the lens distortion; read raw, pixels at the
+// once before it (the `tum` realism profile renders the lens distortion; read raw, pixels at the
 // image border land centimetres off). Without distortion nothing is resampled.
 #include <opencv2/core.hpp>
 

@@ -31,7 +31,8 @@ struct DenseParams {
   int edge_margin_px = 24;
   // MiB the stored keyframe clouds may take (16 bytes a point); 0: no cap. Over it, the clouds of
   // keyframes that keyframe culling removed go first, then the oldest; the newest
-  // max(repair.keyframes, free_space.keyframes) always stay (bench_scale, issue 23).
+  // max(repair.keyframes, free_space.keyframes) always stay (bench/results/scale.md, "Dense map
+  // memory").
   double max_memory_mb = 1024.0;
   RepairParams repair;
   // Points that later or earlier keyframes (the repair's neighbours) see through stay out.

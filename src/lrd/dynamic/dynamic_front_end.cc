@@ -120,10 +120,10 @@ GeometryStats DynamicFrontEnd::remove_moving_points(data::Frame& f,
   GeometryCheckResult r = filter_.check(f, current_depth_, nearby);
   // In full mode the pose the check judged from rests on the frame's matches with a map the
   // segmentation kept people out of; a check that finds most of them moving contradicts its own
-  // premise (bench/results/bonn.md, person_tracking: static foreground hiding mapped points of a
-  // wall seen at a grazing angle, regions grown along the wall over most of the frame). The
-  // semantic mask still applies. Not in geometric mode: there a person the camera follows is
-  // mapped and matched like the room, and flagging them is right.
+  // premise (bench/results/log/bonn.md, person_tracking: static foreground hiding mapped points of
+  // a wall seen at a grazing angle, regions grown along the wall over most of the frame). The
+  // semantic mask still applies. Not in geometric mode: there a person the camera follows is mapped
+  // and matched like the room, and flagging them is right.
   if (params_.mode == DynamicMode::Full && flags_most_pose_matches(f, r.dynamic)) {
     spdlog::debug(
         "frame {}: geometry check found {} keypoints moving, most of the matches the pose rests on: "

@@ -113,7 +113,8 @@ struct BlockMotion {
 [[gnu::always_inline]] inline void project_row(const float* d, const float* bx, float by, int begin, int end,
                                                const BlockMotion& m, float* xs, float* ys, int* seen) {
   // R (bx, by, 1) summed as Eigen sums a 3x3 product, r0 bx + (r1 by + r2): the same masks, bit
-  // for bit, as the Eigen code this replaced (issue 23).
+  // for bit, as an Eigen matrix-vector product per pixel (mask carry-over vectorised,
+  // bench/results/performance.md).
   const float c0 = m.r[1] * by + m.r[2], c1 = m.r[4] * by + m.r[5], c2 = m.r[7] * by + m.r[8];
   for (int u = begin; u < end; ++u) {
     const float qx = (m.r[0] * bx[u] + c0) * d[u] + m.t[0];

@@ -23,8 +23,8 @@ struct AteResult {
 [[nodiscard]] AteResult compute_ate(const io::Trajectory& ground_truth, const io::Trajectory& estimate,
                                     double max_dt = 0.02);
 
-// The same errors under a given alignment instead of the best fit: a later session tracked in a
-// loaded map is judged with the alignment of the session that made the map (map files, issue 20).
+// The same errors under a given alignment instead of the best fit: a map-file session tracked in
+// a loaded map is judged with the alignment of the session that made the map (docs/map-files.md).
 [[nodiscard]] AteResult compute_ate(const io::Trajectory& ground_truth, const io::Trajectory& estimate,
                                     const Eigen::Isometry3d& alignment, double max_dt = 0.02);
 

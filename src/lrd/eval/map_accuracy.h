@@ -1,8 +1,8 @@
 #pragma once
-// How good a dense map is against the true surfaces of the scene (issue 7's bars): accuracy is
-// the share of map points farther than a threshold from every scene sample ("ghosts", e.g. of
-// people), completeness the share of the scene samples the camera saw that have a map point
-// within the threshold. Both in the scene's (ground-truth) world frame.
+// How good a dense map is against the true surfaces of the scene (the bars in
+// bench/results/dense.md): accuracy is the share of map points farther than a threshold from every
+// scene sample ("ghosts", e.g. of people), completeness the share of the scene samples the camera
+// saw that have a map point within the threshold. Both in the scene's (ground-truth) world frame.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstddef>

@@ -1,7 +1,8 @@
 #pragma once
-// How good an occupancy map is against the synthetic scene (issue 25's bars), everything in the
-// scene's world frame (z up, floor at z = 0). A voxel or cell "matches" a surface when a sample of
-// it lies within one resolution of its centre (in 3-D for voxels, on the floor plane for cells).
+// How good an occupancy map is against the synthetic scene (the bars in docs/occupancy.md),
+// everything in the scene's world frame (z up, floor at z = 0). A voxel or cell "matches" a surface
+// when a sample of it lies within one resolution of its centre (in 3-D for voxels, on the floor
+// plane for cells).
 //  - precision: occupied voxels matching a static surface; recall: seen scene voxels (the scene
 //    samples some frame saw, voxelized) with an occupied voxel matching one of their samples;
 //  - people ghosts: occupied voxels matching no static surface but a surface of a person seen

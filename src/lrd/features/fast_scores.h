@@ -5,7 +5,7 @@
 // OpenCV's FAST tests each pixel at one threshold and scores the corners one by one; run twice
 // (the high threshold over the level, the low one over the cells left without a corner) it was
 // two thirds of our extraction under the `tum` realism profile, where sensor noise makes many
-// candidates (bench/results/performance.md, session 38).
+// candidates (bench/results/log/performance.md, 2026-12-07: "FAST scored once per level").
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <vector>

@@ -1,11 +1,11 @@
 #pragma once
-// Whether a loop's correction agrees with structure the map already has (reliability issue,
-// item 1). A true loop links two parts of the map that share no structure yet: drift kept
-// tracking from recognising the old place. When the loop keyframe already observes points of the
-// current keyframe's neighbourhood, the map holds the relative pose of the two sides already, and a
-// correction that moves the neighbourhood's points away from where the loop keyframe sees them is
-// not a loop but a wrong transform (seen on a camera retracing its path: a "loop" to a keyframe
-// nine keyframes back, 22 RANSAC inliers, a 0.45 m move that put those points 280 px off).
+// Whether a loop's correction agrees with structure the map already has (the divergence hunt,
+// bench/results/divergence.md). A true loop links two parts of the map that share no structure yet:
+// drift kept tracking from recognising the old place. When the loop keyframe already observes
+// points of the current keyframe's neighbourhood, the map holds the relative pose of the two sides
+// already, and a correction that moves the neighbourhood's points away from where the loop keyframe
+// sees them is not a loop but a wrong transform (seen on a camera retracing its path: a "loop" to a
+// keyframe nine keyframes back, 22 RANSAC inliers, a 0.45 m move that put those points 280 px off).
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <vector>

@@ -21,11 +21,12 @@ LoopGap loop_gap(const optim::SolvedPoses& T_cw, const LoopDetection& loop) {
   return optim::motion_size(measured.inverse() * solved);
 }
 
-// The plausibility check of a loop's correction (reliability issue, item 1): a dry run of step 3 on
-// the graph as it is, with the loop's edge and the neighbourhood moved. A correction that changes
-// one spanning-tree edge by decimetres has not spread a drift along the loop: it would tear the
-// trajectory apart (the 0.5-0.8 m jumps of `static` mode on walking_rpy). Warns when it refuses;
-// otherwise returns its solution, which the correction falls back on (step 3).
+// The plausibility check of a loop's correction (the divergence hunt, bench/results/divergence.md):
+// a dry run of step 3 on the graph as it is, with the loop's edge and the neighbourhood moved. A
+// correction that changes one spanning-tree edge by decimetres has not spread a drift along the
+// loop: it would tear the trajectory apart (the 0.5-0.8 m jumps of `static` mode on walking_rpy).
+// Warns when it refuses; otherwise returns its solution, which the correction falls back on
+// (step 3).
 std::optional<optim::PoseGraphResult> plausible_correction(
     const map::Map& map, const LoopClosingParams& params, const LoopDetection& loop,
     const KeyFramePoses& uncorrected, const KeyFramePoses& corrected, double correction_m) {

@@ -1,9 +1,9 @@
 #pragma once
-// Judging a loop's pose-graph correction (reliability issue, item 1): the dry run that comes before
-// anything moves, and the choice between the real solve and the dry run's solution after the
-// fusion (loop_closer.cc, steps 3 and 6 of docs/place-recognition.md). A correction is plausible
-// when it changes no keyframe's odometry by more than the limits (optim/odometry_change.h) and
-// closes the loop to within them.
+// Judging a loop's pose-graph correction (the divergence hunt, bench/results/divergence.md): the
+// dry run that comes before anything moves, and the choice between the real solve and the dry run's
+// solution after the fusion (loop_closer.cc, steps 3 and 6 of docs/place-recognition.md). A
+// correction is plausible when it changes no keyframe's odometry by more than the limits
+// (optim/odometry_change.h) and closes the loop to within them.
 #include <Eigen/Geometry>
 #include <map>
 #include <optional>

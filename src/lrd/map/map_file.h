@@ -1,5 +1,5 @@
 #pragma once
-// Map files (.lrdmap, issue 20): the sparse map a run built, to localize in or extend later.
+// Map files (.lrdmap, docs/map-files.md): a run's sparse map, to localize in or extend later.
 //
 // Layout, little-endian: "LRDMAP01", u32 version, u32 section count, u64 file size; then the
 // sections, each a 4-character tag, a u64 payload length and the payload; last, a u64 FNV-1a 64

@@ -1,7 +1,7 @@
 #pragma once
 // Keyframe culling (ORB-SLAM2's KeyFrameCulling, paper §2.2) with a second rule for a camera that
-// keeps coming back to the same place (issue 23 item 5: the map should grow with the explored
-// space, not with the time spent in it).
+// keeps coming back to the same place (bench/results/scale.md: the map should grow with the
+// explored space, not with the time spent in it).
 //
 // ORB-SLAM2's rule removes a keyframe when 90 % of its close points are seen by three other
 // keyframes at the same or a finer scale. Lap after lap around one room, people hide and reveal

@@ -1,9 +1,10 @@
 #pragma once
-// The floor under the map (issue 25): where "up" is and how high the floor lies along it, so the
-// 2-D grid can take the voxels between two heights above the floor. SLAM's map frame is the first
-// camera's, with gravity unknown: the configured up (the camera's -y; cameras start roughly level)
-// is refined to the normal of the dominant near-horizontal plane of the occupied voxels, and the
-// floor is the lowest height along it that holds a large share of them (a table top holds fewer).
+// The floor under the map (docs/occupancy.md): where "up" is and how high the floor lies along it,
+// so the 2-D grid can take the voxels between two heights above the floor. SLAM's map frame is the
+// first camera's, with gravity unknown: the configured up (the camera's -y; cameras start roughly
+// level) is refined to the normal of the dominant near-horizontal plane of the occupied voxels, and
+// the floor is the lowest height along it that holds a large share of them (a table top holds
+// fewer).
 #include <Eigen/Core>
 #include <optional>
 #include <vector>

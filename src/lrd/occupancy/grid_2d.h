@@ -1,7 +1,7 @@
 #pragma once
-// The 2-D occupancy grid a planner reads (issue 25): the voxels between two heights above the
-// floor, projected onto it. Written in ROS map_server's format (PGM + YAML) and as a picture with
-// the trajectory; the ROS node publishes it as nav_msgs/OccupancyGrid.
+// The 2-D occupancy grid a planner reads (docs/occupancy.md): the voxels between two heights above
+// the floor, projected onto it. Written in ROS map_server's format (PGM + YAML) and as a picture
+// with the trajectory; the ROS node publishes it as nav_msgs/OccupancyGrid.
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>

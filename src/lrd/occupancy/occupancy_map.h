@@ -1,7 +1,7 @@
 #pragma once
-// The 3-D occupancy map (issue 25): an OctoMap OcTree filled by ray casting each keyframe's
-// depth. Along each ray the voxels are free, at its end occupied; the end's evidence shrinks with
-// the sensor's depth noise, sigma(z) = depth_noise * z^2: the hit adds the log-odds of
+// The 3-D occupancy map (docs/occupancy.md): an OctoMap OcTree filled by ray casting each
+// keyframe's depth. Along each ray the voxels are free, at its end occupied; the end's evidence
+// shrinks with the sensor's depth noise, sigma(z) = depth_noise * z^2: the hit adds the log-odds of
 //   p(z) = 0.5 + (prob_hit - 0.5) * erf(resolution / (2 sqrt(2) sigma(z))),
 // the chance that a surface measured at z lies in the voxel it was measured in. Free-space
 // carving is what removes a person who stood somewhere and walked on: later rays pass through.

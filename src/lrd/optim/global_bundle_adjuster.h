@@ -22,12 +22,12 @@ struct GlobalBundleAdjustmentParams {
   int iterations = 10;
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
-  // Plausibility (reliability issue, item 1): global BA refines a map the pose graph has already
-  // made consistent; it moves a keyframe against its spanning-tree parent by millimetres. A result
-  // that moves one by more than this has found another minimum, pulled by structure that is not
-  // rigid (points on people kept by `static` mode: rms 4-6 px there against 0.6 px on a static
-  // scene), and would tear the trajectory apart (jumps of 0.5-1.2 m between consecutive frames
-  // on walking_xyz). It is not merged.
+  // Plausibility (the divergence hunt, bench/results/divergence.md): global BA refines a map the
+  // pose graph has already made consistent; it moves a keyframe against its spanning-tree parent by
+  // millimetres. A result that moves one by more than this has found another minimum, pulled by
+  // structure that is not rigid (points on people kept by `static` mode: rms 4-6 px there against
+  // 0.6 px on a static scene), and would tear the trajectory apart (jumps of 0.5-1.2 m between
+  // consecutive frames on walking_xyz). It is not merged.
   double max_edge_change_m = 0.1;
   double max_edge_change_deg = 5.0;
 };

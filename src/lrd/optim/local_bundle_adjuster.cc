@@ -178,8 +178,8 @@ LocalBundleAdjustmentStats local_bundle_adjustment(map::KeyFrame* keyframe, map:
   stats.initial_rms_px = rms(k, window.poses, window.points, window.obs);
 
   // A solution that tears a pair of keyframes beyond the limits (pulled onto wrongly fused points,
-  // reliability issue) solves again with the pair held where it is, the rest still refined; beyond
-  // max_held_pairs pairs it is refused whole.
+  // bench/results/divergence.md) solves again with the pair held where it is, the rest still
+  // refined; beyond max_held_pairs pairs it is refused whole.
   for (;;) {
     Window w = window;
     if (!solve_rounds(k, w, params, abort)) stats.aborted = true;

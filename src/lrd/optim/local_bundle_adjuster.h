@@ -26,9 +26,9 @@ struct LocalBundleAdjustmentParams {
   int max_local_keyframes = 0;  // 0: every covisible keyframe (ORB-SLAM2)
   // A result that changes a keyframe's pose against its parent or a tracking-linked keyframe by
   // more (or takes a linked pair further from its tracked odometry, odometry_change.h) is BA
-  // pulling keyframes onto wrongly fused points, not a drift being removed (reliability issue,
-  // item 1; the loop closer's limits): solved again with that pair held, refused (nothing
-  // written) beyond max_held_pairs pairs.
+  // pulling keyframes onto wrongly fused points, not a drift being removed (the divergence hunt,
+  // bench/results/divergence.md; the loop closer's limits): solved again with that pair held,
+  // refused (nothing written) beyond max_held_pairs pairs.
   double max_odometry_change_m = 0.25;
   double max_odometry_change_deg = 10.0;
   int max_held_pairs = 2;

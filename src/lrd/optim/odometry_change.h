@@ -5,7 +5,7 @@
 // the other between two frames), after against before. Odometry between keyframes a fraction of
 // a second apart is never wrong by decimetres, so a solution that changes one such pair that much
 // has not spread a drift but torn the map, and the camera trajectory would jump there
-// (reliability issue, item 1).
+// (the divergence hunt, bench/results/divergence.md).
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <functional>

@@ -1,7 +1,8 @@
 #pragma once
-// What the benchmark page shows (issue 24): bench_dynamic's results.json — the paper's Tables 4-7
-// and 10, the improvement rate eta, the dynamic flags — and per preset every mode's trajectory
-// aligned onto the ground truth, read from the runs the benchmark wrote (runs/PRESET/MODE/).
+// What the benchmark page shows (docs/report.md): bench_dynamic's results.json — the paper's
+// Tables 4-7 and 10, the improvement rate eta, the dynamic flags — and per preset every mode's
+// trajectory aligned onto the ground truth, read from the runs the benchmark wrote
+// (runs/PRESET/MODE/).
 #include <filesystem>
 #include <nlohmann/json.hpp>
 

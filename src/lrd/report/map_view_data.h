@@ -1,7 +1,7 @@
 #pragma once
-// The 3-D map view of the run page (issue 24): the dense map (dense_map.ply), the sparse map's
-// points (report_frames/sparse_map.ply, written by `run --report`) and the keyframes' positions
-// (KeyFrameTrajectory.txt), as the page's three.js viewer reads them: positions as base64
+// The 3-D map view of the run page (docs/report.md): the dense map (dense_map.ply), the sparse
+// map's points (report_frames/sparse_map.ply, written by `run --report`) and the keyframes'
+// positions (KeyFrameTrajectory.txt), as the page's three.js viewer reads them: positions as base64
 // little-endian float32 triples, colours as base64 RGB bytes.
 #include <filesystem>
 #include <nlohmann/json.hpp>

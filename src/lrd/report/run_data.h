@@ -1,5 +1,5 @@
 #pragma once
-// What an HTML report shows about one run (issue 24), gathered from the run's output folder:
+// What an HTML report shows about one run (docs/report.md), gathered from the run's output folder:
 // summary.json, track_times.txt, CameraTrajectory.txt and the images the run wrote, with the
 // sequence's ground truth when there is one. The page (web/report.js) draws it.
 #include <filesystem>

@@ -1,7 +1,7 @@
 #pragma once
-// A trajectory as the report pages draw it (issue 24): positions as x/y/z columns, aligned onto the
-// ground truth as the ATE aligns it, with each pose's error. Shared by the run page and the
-// benchmark page.
+// A trajectory as the report pages draw it (docs/report.md): positions as x/y/z columns, aligned
+// onto the ground truth as the ATE aligns it, with each pose's error. Shared by the run page and
+// the benchmark page.
 #include <cstddef>
 #include <nlohmann/json.hpp>
 

@@ -1,6 +1,7 @@
 #pragma once
-// Judging the dense stage on a sequence with ground truth (issue 7's bars): background repair
-// against the synthetic benchmark's static/depth images, and the dense map against its scene.ply.
+// Judging the dense stage on a sequence with ground truth (the bars in bench/results/dense.md):
+// background repair against the synthetic benchmark's static/depth images, and the dense map
+// against its scene.ply.
 #include <filesystem>
 #include <mutex>
 #include <optional>

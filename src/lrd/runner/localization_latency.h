@@ -1,9 +1,9 @@
 #pragma once
-// How soon a run placed itself in a loaded map (map files, issue 20): the first frame it tracked,
-// against the first frame whose view held mapped structure. A frame "sees the map" when at least
-// `min_points` of the loaded map's points lie in front of its true camera (the ground-truth pose,
-// brought into the map's frame by the run's own ATE alignment), project inside the image, and are
-// not hidden: the frame's measured depth at that pixel is within 10 % of the point's depth.
+// How soon a run placed itself in a loaded map (map files, docs/map-files.md): the first frame it
+// tracked, against the first frame whose view held mapped structure. A frame "sees the map" when at
+// least `min_points` of the loaded map's points lie in front of its true camera (the ground-truth
+// pose, brought into the map's frame by the run's own ATE alignment), project inside the image, and
+// are not hidden: the frame's measured depth at that pixel is within 10 % of the point's depth.
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <optional>

@@ -1,6 +1,7 @@
 #pragma once
-// Judging the maps of a run on the synthetic benchmark: the dense map (issue 7's bars) and the
-// occupancy map (issue 25's) against the sequence's scene.ply, in its world frame.
+// Judging the maps of a run on the synthetic benchmark: the dense map (the bars in
+// bench/results/dense.md) and the occupancy map (those in docs/occupancy.md) against the sequence's
+// scene.ply, in its world frame.
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// The frames an HTML report shows (issue 24), chosen while the run goes and drawn at its end:
+// The frames an HTML report shows (docs/report.md), chosen while the run goes and drawn at its end:
 // the most keypoints removed by the geometry check, the oldest masks used, and the largest error
 // against ground truth (among evenly spaced frames kept as the run goes, since errors are only
 // known once the trajectory is aligned). Bounded: at most kPerReason frames per reason, and the

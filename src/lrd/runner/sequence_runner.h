@@ -60,8 +60,8 @@ struct RunOptions {
   // --no-loop-closing (ablations; relocalization stays), --vocabulary FILE.
   bool no_loop_closing = false;
   std::optional<std::filesystem::path> vocabulary;
-  // Map files (issue 20): start from a saved map (frames relocalize against it first), track it
-  // without adding to it, write the final map.
+  // Map files (docs/map-files.md): start from a saved map (frames relocalize against it first),
+  // track it without adding to it, write the final map.
   std::optional<std::filesystem::path> load_map;
   bool localization_only = false;  // needs load_map
   std::optional<std::filesystem::path> save_map;
@@ -163,7 +163,7 @@ struct DenseReport {
   std::optional<eval::MapAccuracy> map;  // vs scene.ply (synthetic benchmark)
 };
 
-// The occupancy outputs (occupancy.bt, occupancy_2d.*; issue 25).
+// The occupancy outputs (occupancy.bt, occupancy_2d.*; docs/occupancy.md).
 struct OccupancyReport {
   double resolution = 0.0;
   std::size_t occupied_voxels = 0, free_voxels = 0;

@@ -1,7 +1,8 @@
 #pragma once
 // A person who walks straight at the camera, stops close enough to fill most of the view for a
-// moment, turns round, walks back and waits (issue 21's harder dynamic content): the frames where
-// a person hides nearly everything static, and a mask that must follow them to the image border.
+// moment, turns round, walks back and waits (the harder content's walking_close,
+// docs/synthetic-benchmark.md): the frames where a person hides nearly everything static, and a
+// mask that must follow them to the image border.
 #include <string>
 
 #include "lrd/synth/actor.h"

@@ -66,7 +66,7 @@ Eigen::Vector3d CameraMotion::tremor_angles(double t) const {
 
 Eigen::Isometry3d CameraMotion::session_offset(double t) const {
   // A yaw about the vertical through the standpoint, easing from 80 deg to 12 deg over the
-  // first 4 s (smoothstep), then a step aside; mirrored for session 3.
+  // first 4 s (smoothstep), then a step aside; map-file session 3 mirrors it.
   constexpr double kStartYaw = 80.0 * M_PI / 180.0, kEndYaw = 12.0 * M_PI / 180.0, kTurnSeconds = 4.0;
   const double sign = session_ == 2 ? 1.0 : -1.0;
   const double s = std::clamp(t / kTurnSeconds, 0.0, 1.0);
@@ -156,12 +156,13 @@ Eigen::Isometry3d CameraMotion::smooth_pose_at(double t) const {
     }
     case MotionKind::kTour:
     case MotionKind::kCircle: {
-      // The long presets (bench_scale, issue 23): laps of kTourLap seconds around the middle of
-      // the room, looking outwards, whatever the length. kTour: radius and height drift between
-      // laps (periods of 7.3 and 4.9 laps: under 0.3 m from one lap to the next), so every lap
-      // revisits what earlier ones saw (loops) from a slightly different place, at 0.13-0.28 m/s
-      // and 18 deg/s (TUM fr3's walking sequences: 0.1-0.4 m/s). kCircle: the same 0.65 m circle
-      // every lap (0.2 m/s), where the map should stop growing after the first laps (item 5).
+      // The long presets (bench_scale, bench/results/scale.md): laps of kTourLap seconds around the
+      // middle of the room, looking outwards, whatever the length. kTour: radius and height drift
+      // between laps (periods of 7.3 and 4.9 laps: under 0.3 m from one lap to the next), so every
+      // lap revisits what earlier ones saw (loops) from a slightly different place, at
+      // 0.13-0.28 m/s and 18 deg/s (TUM fr3's walking sequences: 0.1-0.4 m/s). kCircle: the same
+      // 0.65 m circle every lap (0.2 m/s), where the map should stop growing after the first laps
+      // (it grows with the space explored).
       const Eigen::Vector3d c(2.7, 2.5, 1.35);
       const double drift = kind_ == MotionKind::kTour ? 1.0 : 0.0;
       const double theta = kTwoPi * t / kTourLap;

@@ -14,8 +14,9 @@ namespace lrd::synth {
 
 enum class MotionKind { kStill, kXyz, kRpy, kHalfsphere, kLoop, kTour, kCircle, kFollow };
 
-// How the realism profile's hand-held camera departs from a preset's smooth path (issue 21;
-// synth/motion_matching.h sizes it for each preset). The defaults are the smooth path itself.
+// How the realism profile's hand-held camera departs from a preset's smooth path
+// (docs/synthetic-benchmark.md; synth/motion_matching.h sizes it for each preset). The defaults are
+// the smooth path itself.
 struct HandHeldMotion {
   double path_scale = 1.0;        // the path's displacement from the presets' standpoint, scaled
   double translation_sway = 0.0;  // m: amplitude of a slow wander (periods of 2-7 s)
@@ -26,9 +27,10 @@ class CameraMotion {
  public:
   // `duration`: the preset's full length in seconds (the loop's two laps span it). `session` 1 is
   // the preset's path; 2 and 3 are the same motion from another standpoint (map-file sessions,
-  // issue 20): the camera stands 0.6 m aside and starts turned 80 deg away from session 1's view
-  // (2: to the left, 3: to the right), then over its first 4 s turns to within 12 deg of it, so
-  // it first sees what session 1 did not and then overlaps session 1's view in part.
+  // docs/map-files.md): the camera stands 0.6 m aside and starts turned 80 deg away from the view
+  // session 1 sees (2: to the left, 3: to the right), then over its first 4 s turns to within
+  // 12 deg of it, so it first sees what the first map-file session did not and then overlaps that
+  // session's view in part.
   CameraMotion(MotionKind kind, double duration, std::uint64_t seed, int session = 1);
   static constexpr int kMaxSession = 3;
   static constexpr double kTourLap = 20.0;  // s, one lap of kTour and kCircle
@@ -55,7 +57,7 @@ class CameraMotion {
   [[nodiscard]] Eigen::Isometry3d hand_held_pose(const Eigen::Isometry3d& smooth, double t) const;
   [[nodiscard]] Eigen::Vector3d tremor_position(double t) const;
   [[nodiscard]] Eigen::Vector3d tremor_angles(double t) const;
-  // World-frame motion from session 1's standpoint to this session's at time t.
+  // World-frame motion from the standpoint of map-file session 1 to this session's at time t.
   [[nodiscard]] Eigen::Isometry3d session_offset(double t) const;
   MotionKind kind_;
   int session_;

@@ -149,7 +149,7 @@ SceneScript build_scene_script(const PresetSpec& spec, const TextureLibrary& tex
   script.camera = std::make_unique<CameraMotion>(spec.motion, duration, seed, session);
   const auto target = motion_target(spec);
   if (hand_held && target) {
-    // Sized on session 1's path, so that every session moves alike.
+    // Sized on the path session 1 renders, so that every map-file session moves alike.
     const CameraMotion first(spec.motion, duration, seed, 1);
     script.camera->set_hand_held(match_motion(first, *target, duration, fps));
   }

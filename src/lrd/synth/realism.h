@@ -1,8 +1,8 @@
 #pragma once
-// Realism profiles of the synthetic benchmark (issue 21): `clean` is the renderer as it always was;
-// `tum` adds what separates it from a Kinect v1 recording in the TUM RGB-D benchmark, each effect
-// sized from a published figure where one exists (docs/synthetic-benchmark.md, "Realism profiles",
-// lists value and source) and switchable on its own for ablations (`--realism-off EFFECT,...`).
+// Realism profiles of the synthetic benchmark: `clean` is the plain renderer; `tum` adds what
+// separates it from a Kinect v1 recording in the TUM RGB-D benchmark, each effect sized from a
+// published figure where one exists (docs/synthetic-benchmark.md, "Realism profiles", lists value
+// and source) and switchable on its own for ablations (`--realism-off EFFECT,...`).
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <string_view>

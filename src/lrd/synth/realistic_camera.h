@@ -1,11 +1,12 @@
 #pragma once
-// The colour camera and depth registration of the `tum` realism profile (issue 21): what a Kinect
-// v1 does to the light between the scene and the PNG files. Colour: auto exposure and white
-// balance chosen from the view, the exposure and rolling-shutter readout integrated over sub-frame
-// renders, lens distortion and vignetting, a Bayer sensor with shot and read noise, gamma, 8 bits.
-// Depth: warped into the distorted colour image with a registration error, speckle holes, whole
-// millimetres. Noise is a function of (seed, frame, pixel), as in SensorModel: the actor-free view
-// of a frame gets the same noise wherever the actors are not.
+// The colour camera and depth registration of the `tum` realism profile
+// (docs/synthetic-benchmark.md): what a Kinect v1 does to the light between the scene and the PNG
+// files. Colour: auto exposure and white balance chosen from the view, the exposure and
+// rolling-shutter readout integrated over sub-frame renders, lens distortion and vignetting, a
+// Bayer sensor with shot and read noise, gamma, 8 bits. Depth: warped into the distorted colour
+// image with a registration error, speckle holes, whole millimetres. Noise is a function of (seed,
+// frame, pixel), as in SensorModel: the actor-free view of a frame gets the same noise wherever the
+// actors are not.
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <vector>

@@ -1,7 +1,8 @@
 #pragma once
-// A seated person who, after sitting for a while, stands up and walks out of the view (issue 21's
-// harder dynamic content): static for long enough to be mapped as background by the keyframes of
-// that time, then moving, so that a stale keyframe's view of them disagrees with the present.
+// A seated person who, after sitting for a while, stands up and walks out of the view (the harder
+// content's sitting_standup, docs/synthetic-benchmark.md): static for long enough to be mapped as
+// background by the keyframes of that time, then moving, so that a stale keyframe's view of them
+// disagrees with the present.
 #include <string>
 #include <vector>
 

@@ -33,10 +33,12 @@ struct SynthOptions {
   // The camera runs the preset's path this many times faster (e.g. static_loop's two laps in
   // 400 frames at 2.5: a loop closes within a short test); 1 is the benchmark.
   double camera_speed = 1.0;
-  // Map-file sessions (issue 20): 1 is the preset's camera path; 2 and 3 see the same room and
-  // people, with the same seed, from another standpoint (CameraMotion), in the same world frame.
+  // Map-file sessions (docs/map-files.md): 1 is the preset's camera path; 2 and 3 see the same room
+  // and people, with the same seed, from another standpoint (CameraMotion), in the same world
+  // frame.
   int session = 1;
-  // `--realism` (issue 21): `clean` renders as always; `tum` as a Kinect v1 in TUM's recordings.
+  // `--realism` (docs/synthetic-benchmark.md): `clean` is the plain renderer; `tum` renders as a
+  // Kinect v1 in TUM's recordings.
   RealismParams realism;
   [[nodiscard]] bool blanked(int i) const {
     return blank_from >= 0 && i >= blank_from && i < blank_from + blank_count;

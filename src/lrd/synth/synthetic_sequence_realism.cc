@@ -1,6 +1,6 @@
-// SyntheticSequence under a realism profile other than `clean` (issue 21): the colour camera's
-// exposure, shutter and sensor (RealisticCamera), depth at its own instant and registered to the
-// colour image, and ground truth as a motion-capture system records it.
+// SyntheticSequence under a realism profile other than `clean` (docs/synthetic-benchmark.md): the
+// colour camera's exposure, shutter and sensor (RealisticCamera), depth at its own instant and
+// registered to the colour image, and ground truth as a motion-capture system records it.
 #include <cmath>
 
 #include "lrd/synth/synthetic_sequence.h"

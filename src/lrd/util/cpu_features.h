@@ -1,8 +1,8 @@
 #pragma once
-// A hot loop in two copies, chosen at run time (issue 23): the same C++ inlined into a baseline
-// function and into one compiled with [[gnu::target("avx2")]], where the compiler can make it.
-// Without -mavx2 for the whole build, the binary still runs on any x86-64, and the libraries we
-// link (Eigen in Ceres, OpenCV) keep the layouts they were built with.
+// A hot loop in two copies, chosen at run time (bench/results/performance.md): the same C++ inlined
+// into a baseline function and into one compiled with [[gnu::target("avx2")]], where the compiler
+// can make it. Without -mavx2 for the whole build, the binary still runs on any x86-64, and the
+// libraries we link (Eigen in Ceres, OpenCV) keep the layouts they were built with.
 #if defined(__GNUC__) && defined(__x86_64__)
 #define LRD_AVX2_COPIES 1
 #endif

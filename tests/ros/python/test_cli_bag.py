@@ -1,5 +1,6 @@
-"""`lrdslam synth --bag` and `lrdslam run --bag` (issue 19, items 1-2): a synthetic sequence
-written as a TUM-style bag runs exactly as its folder does, with every output a folder run has."""
+"""`lrdslam synth --bag` and `lrdslam run --bag` (README, "On a robot with ROS"): a synthetic
+sequence written as a TUM-style bag runs exactly as its folder does, with every output a folder run
+has."""
 import json
 import subprocess
 

@@ -1,7 +1,8 @@
-"""lrdslam_ros against the real ROS tools (issue 19, items 3-5): our own roscore, `rosbag play` of
-a synthetic TUM-style bag, the node, and rospy subscribers here. Asserts the pose topic's accuracy
-against the bag's ground truth, the published topics' types and rates, the saved trajectory
-against the last path, malformed messages dropped and counted, and a clean exit on SIGINT."""
+"""lrdslam_ros against the real ROS tools (README, "On a robot with ROS"): our own roscore,
+`rosbag play` of a synthetic TUM-style bag, the node, and rospy subscribers here. Asserts the pose
+topic's accuracy against the bag's ground truth, the published topics' types and rates, the saved
+trajectory against the last path, malformed messages dropped and counted, and a clean exit on
+SIGINT."""
 import json
 import os
 import threading
