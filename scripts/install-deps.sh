@@ -1,28 +1,40 @@
 #!/usr/bin/env bash
-# Installs exactly the Debian (bookworm) packages lrd-slam needs to build, test and run.
-# Idempotent: skips apt entirely when everything is already installed. Run as root (or via sudo).
+# Installs the Debian (bookworm) packages lrd-slam needs. Idempotent: skips apt entirely when
+# everything is already installed. Run as root (or via sudo).
+#   scripts/install-deps.sh          everything: build, every feature, the tests (scripts/run-tests.sh)
+#   scripts/install-deps.sh --main   only what building the CLI and running the default job need
+#                                    (scripts/run-default.sh): no ROS, DDS, Python, Slurm, browser
+#                                    or training packages; the features that need them say what to
+#                                    install when they are missing (docs/install.md)
 set -euo pipefail
 
-PACKAGES=(
+MAIN=(
   # toolchain
   build-essential cmake ninja-build pkg-config git
+  # libraries
+  libopencv-dev libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev zlib1g-dev
+  nlohmann-json3-dev libtbb-dev
+  libgtest-dev libgmock-dev libbenchmark-dev  # configure-time only unless the tests or benchmarks are built
+  # ROS 2 bags (rosbag2/, our own reader and writer): sqlite3 storage, MCAP's zstd and LZ4 chunks
+  libsqlite3-dev libzstd-dev liblz4-dev
+  liboctomap-dev  # the occupancy map
+  # Real photographs used as textures by the synthetic benchmark (lrdslam synth)
+  opencv-doc gnome-backgrounds mate-backgrounds
+)
+
+FEATURES=(
   clang-format-14  # the format check (scripts/check-format.sh, a ctest test)
   clang-14 libclang-rt-14-dev  # libFuzzer and its sanitizers: the fuzz preset (bench/fuzz/run.sh)
   graphviz         # docs/architecture: the picture from its text source
-  # libraries
-  libopencv-dev libeigen3-dev libceres-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev zlib1g-dev
-  nlohmann-json3-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
-  # ROS 2 bags (rosbag2/, our own reader and writer): sqlite3 storage, MCAP's zstd and LZ4 chunks
-  libsqlite3-dev libzstd-dev liblz4-dev
+  octomap-tools    # octovis-free tools to inspect .bt files
   zstd lz4  # their command-line tools: the Node.js cross-check (tests/ros2/) decompresses chunks with them
-  liboctomap-dev octomap-tools  # the occupancy map (issue 25); octovis-free tools to inspect .bt files
   # Python side (tests, reference evaluators, FNet training) — always /usr/bin/python3
   python3 python3-numpy python3-opencv python3-pytest python3-yaml
   python3-torch python3-onnx python3-pil  # FNet: training, ONNX export fix-up, VOC palette labels
   python3-flatbuffers  # tools/tflite2onnx reads TFLite models (scripts/fetch-models.sh)
   python3-dev pybind11-dev  # the Python module (python/): pybind11 bindings for /usr/bin/python3
   slurmctld slurmd slurm-client  # `lrdslam sweep --executor slurm` and its test (a real Slurm on 127.0.0.1)
-  # ROS 1 (issue 19): rosbag input (`run --bag`, `synth --bag`) and the lrdslam_ros node with its
+  # ROS 1: rosbag input (`run --bag`, `synth --bag`) and the lrdslam_ros node with its
   # tests (roscore, rosbag play, rostopic). rosbag's headers pull in bookworm's ROS 2 pluginlib,
   # whose rcpputils/rcutils headers are named here because the build includes them.
   ros-core libroscpp-dev librosbag-storage-dev libmessage-filters-dev libcv-bridge-dev
@@ -34,11 +46,17 @@ PACKAGES=(
   # ROS 2 (ros2/): the lrdslam_ros2 node and `lrdslam ros2-play` on Cyclone DDS, the DDS under
   # rmw_cyclonedds_cpp; idlc (cyclonedds-tools) compiles the messages' IDL
   cyclonedds-dev cyclonedds-tools
-  # The HTML report (issue 24): its test opens a report in headless Chromium
+  # The HTML report's test opens a report in headless Chromium
   chromium fonts-dejavu-core
-  # Real photographs used as textures by the synthetic benchmark (lrdslam synth)
-  opencv-doc gnome-backgrounds mate-backgrounds
 )
+
+PACKAGES=("${MAIN[@]}")
+WANT_NPM=1
+case "${1:-}" in
+  --main) WANT_NPM=0 ;;
+  "") PACKAGES+=("${FEATURES[@]}") ;;
+  *) echo "install-deps: unknown option '$1' (usage: scripts/install-deps.sh [--main])" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -47,9 +65,10 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 
-# npm fetches MediaPipe's selfie model (scripts/fetch-models.sh). Machines that already have
-# Node.js with npm keep theirs; Debian's npm package is the fallback.
-if ! command -v npm >/dev/null 2>&1; then missing+=(npm); fi
+# npm fetches MediaPipe's selfie model (scripts/fetch-models.sh), the report's charting libraries
+# and the ROS 2 test peers. Machines that already have Node.js with npm keep theirs; Debian's npm
+# package is the fallback.
+if [ "$WANT_NPM" = 1 ] && ! command -v npm >/dev/null 2>&1; then missing+=(npm); fi
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#PACKAGES[@]} packages already installed"

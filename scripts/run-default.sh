@@ -8,16 +8,20 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-out/default}
-bash scripts/install-deps.sh
-# The MediaPipe person models for real data (npm package, converted by tools/tflite2onnx into
-# data/models/). Without the npm registry their tests skip and their presets say how to get them.
-bash scripts/fetch-models.sh || echo "warning: scripts/fetch-models.sh failed; the selfie presets are unavailable" >&2
-# The charting library the HTML report inlines (npm package uplot into data/web/).
-bash scripts/fetch-web-assets.sh || echo "warning: scripts/fetch-web-assets.sh failed; no HTML report" >&2
-cmake --preset release
-cmake --build --preset release -j "$(nproc)"
+# Only what this job needs: the toolchain and the libraries the CLI links (no ROS, DDS, Python,
+# Slurm, browser or training packages; scripts/run-tests.sh and docs/install.md add those).
+bash scripts/install-deps.sh --main
+# The charting libraries the HTML report inlines (npm package uplot and three into data/web/), when
+# npm is there; without them the run writes everything but report.html.
+if command -v npm >/dev/null 2>&1; then
+  bash scripts/fetch-web-assets.sh || echo "warning: scripts/fetch-web-assets.sh failed; no HTML report" >&2
+fi
+# The CLI alone, in unity batches (about eight files per compile): the tests, benchmarks and
+# nodes are built by scripts/run-tests.sh or `cmake --build --preset release`.
+cmake --preset release -DLRD_UNITY_BUILD=ON
+cmake --build --preset release -j "$(nproc)" --target lrdslam_cli
 BIN=build/release/bin/lrdslam
-# The realism profile of a real Kinect in TUM's office (issue 21, docs/synthetic-benchmark.md):
+# The realism profile of a real Kinect in TUM's office (docs/synthetic-benchmark.md):
 # blur, rolling shutter, noise, distortion and a slightly wrong calibration, TUM's camera motion.
 SEQ="$OUT/walking_xyz_tum"
 if [ ! -f "$SEQ/sequence.json" ]; then
@@ -25,7 +29,11 @@ if [ ! -f "$SEQ/sequence.json" ]; then
 fi
 if [ -f models/fnet-lite.onnx ]; then MODE=(--mode full --segmenter fnet); else MODE=(--mode geometric); fi
 MODE+=(--dense)  # background repair and the dense map (dense_map.ply/.png), the occupancy map (occupancy.bt, occupancy_2d.*)
-if [ -f data/web/uPlot.iife.min.js ] && [ -f data/web/three.min.js ]; then MODE+=(--report); fi  # OUT/run/report.html
+if [ -f data/web/uPlot.iife.min.js ] && [ -f data/web/three.min.js ]; then
+  MODE+=(--report)  # OUT/run/report.html
+else
+  echo "note: no HTML report (its charting libraries need npm: sudo apt install npm && scripts/fetch-web-assets.sh)" >&2
+fi
 "$BIN" run --sequence "$SEQ" --out "$OUT/run" "${MODE[@]}"
 "$BIN" eval "$SEQ/groundtruth.txt" "$OUT/run/CameraTrajectory.txt" --json "$OUT/eval.json" --plot "$OUT/plots"
 echo "Sequence: $SEQ   trajectory: $OUT/run/CameraTrajectory.txt   dense map: $OUT/run/dense_map.ply   occupancy grid: $OUT/run/occupancy_2d.png   evaluation: $OUT/eval.json   plots: $OUT/plots   report: $OUT/run/report.html"
