@@ -19,12 +19,15 @@ while [ $# -gt 0 ]; do
     *) HARNESSES+=("$1"); shift ;;
   esac
 done
-ALL=(tum_lists orbslam_settings yaml_config map_file vocabulary ply rosbag2 cdr_messages image_messages)
-[ ${#HARNESSES[@]} -gt 0 ] || HARNESSES=("${ALL[@]}")
+ALL=(tum_lists orbslam_settings yaml_config map_file vocabulary ply rosbag2 cdr_messages image_messages rosbag1)
 
 command -v clang++-14 >/dev/null || { echo "run.sh: clang++-14 not found (apt install clang-14)" >&2; exit 2; }
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j "$(nproc)"
+# rosbag1 exists where ROS 1 is installed (Debian's rosbag_storage).
+if [ ${#HARNESSES[@]} -eq 0 ]; then
+  for h in "${ALL[@]}"; do [ -x "build/fuzz/bin/fuzz/fuzz_$h" ] && HARNESSES+=("$h"); done
+fi
 OUT=out/fuzz
 mkdir -p "$OUT/seeds" "$OUT/corpus" "$OUT/crash" "$OUT/log"
 build/fuzz/bin/fuzz/fuzz_make_seeds "$OUT/seeds" config >/dev/null

@@ -9,7 +9,13 @@
 #include <spdlog/spdlog.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
 #include "lrd/bag/frame_pairing.h"
+#include "lrd/bag/ros1_bag_structure.h"
+#include "lrd/bag/ros1_message_lengths.h"
 #include "lrd/bag/tf_ground_truth.h"
 #include "lrd/util/error.h"
 #include "lrd_ros/image_messages.h"
@@ -42,6 +48,17 @@ boost::shared_ptr<T> instantiate(const rosbag::MessageInstance& m, const fs::pat
                                  const char* expected) {
   boost::shared_ptr<T> message;
   try {
+    // ROS's deserializer sizes strings and arrays from their length prefixes before reading them:
+    // the prefixes are checked against the message's bytes first (lrd/bag/ros1_message_lengths.h).
+    if (m.getDataType() == ros::message_traits::datatype<T>()) {
+      if (m.size() > lrd::bag::kMaxRos1ChunkBytes)
+        throw std::runtime_error(fmt::format("it states {} bytes, more than a chunk holds", m.size()));
+      std::vector<std::uint8_t> raw(m.size());
+      ros::serialization::OStream out(raw.data(), static_cast<std::uint32_t>(raw.size()));
+      m.write(out);
+      const std::string problem = lrd::bag::ros1_length_problem(m.getDataType(), raw.data(), raw.size());
+      if (!problem.empty()) throw std::runtime_error(problem);
+    }
     message = m.instantiate<T>();
   } catch (const std::exception& e) {
     throw file_error(file, fmt::format("topic {}: message at {} cannot be read: {}", m.getTopic(),
@@ -115,6 +132,7 @@ std::shared_ptr<BagSequence> BagSequence::open(const fs::path& file, const BagTo
   seq->file_ = file;
   seq->topics_ = topics;
   Messages& m = *seq->messages_;
+  lrd::bag::check_ros1_bag_structure(file);  // rosbag_storage trusts the lengths a bag states
   try {
     m.bag.open(file.string(), rosbag::bagmode::Read);
   } catch (const rosbag::BagException& e) {

@@ -16,6 +16,9 @@
 #include "lrd/place/vocabulary.h"
 #include "lrd/rosbag2/messages.h"
 #include "lrd/rosbag2/rosbag2_writer.h"
+#ifdef LRD_HAVE_ROS
+#include "lrd_ros/bag_writer.h"
+#endif
 
 namespace fs = std::filesystem;
 
@@ -90,6 +93,11 @@ int main(int argc, char** argv) {
     put(out / "rosbag2" / "seed_mcap", std::string(1, '\0') + read(out / "tmp.mcap"));
     lrd::rosbag2::write_rosbag2(tum, camera, out / "tmp.db3");
     put(out / "rosbag2" / "seed_db3", std::string(1, '\1') + read(out / "tmp.db3"));
+#ifdef LRD_HAVE_ROS
+    lrd_ros::write_bag(tum, camera, out / "tmp.bag");
+    put(out / "rosbag1" / "seed_bag", read(out / "tmp.bag"));
+    fs::remove(out / "tmp.bag");
+#endif
     fs::remove(out / "tmp.mcap");
     fs::remove(out / "tmp.db3");
     fs::remove(out / "metadata.yaml");

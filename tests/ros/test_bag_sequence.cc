@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "../unit/error_of.h"
@@ -299,6 +300,38 @@ TEST_F(BagTest, BadBagsAreOneLineErrorsNamingTheBagAndTopic) {
   e = error_of([&] { (void)BagSequence::open(file_); });
   EXPECT_THAT(e, HasSubstr(file_.string() + ": cannot read the bag"));
   EXPECT_EQ(e.find('\n'), std::string::npos);
+}
+
+// rosbag_storage allocates what a bag states: lengths past the file and oversized chunks are refused
+// by the structure check first (lrd/bag/ros1_bag_structure.h), with one line naming the bag.
+TEST_F(BagTest, StatedLengthsThatCannotBeAreRefusedBeforeRosbagReads) {
+  {
+    rosbag::Bag bag(file_.string(), rosbag::bagmode::Write);
+    write_frames(bag, 3);
+  }
+  std::string bytes;
+  {
+    std::ifstream in(file_, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_NO_THROW((void)BagSequence::open(file_));  // the bag as written passes
+  const auto patched = [&](std::size_t at, std::uint32_t value) {
+    std::string b = bytes;
+    for (int i = 0; i < 4; ++i) b[at + i] = static_cast<char>((value >> (8 * i)) & 0xff);
+    const fs::path out = dir_.path() / "patched.bag";
+    std::ofstream(out, std::ios::binary | std::ios::trunc) << b;
+    return error_of([&] { (void)BagSequence::open(out); });
+  };
+  // The bag header record's header length (right after the version line) at 2 GB.
+  std::string e = patched(13, 0x7fffffffu);
+  EXPECT_THAT(e,
+              HasSubstr("patched.bag: cannot read the bag: record at byte 13 states a header of 2147483647"));
+  EXPECT_EQ(e.find('\n'), std::string::npos);
+  // A chunk's uncompressed size (its header field "size=") at 3.7 GB.
+  const std::size_t size_field = bytes.find("size=");
+  ASSERT_NE(size_field, std::string::npos);
+  e = patched(size_field + 5, 0xf0000000u);
+  EXPECT_THAT(e, HasSubstr("bytes uncompressed (at most"));
 }
 
 }  // namespace
