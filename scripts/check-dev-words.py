@@ -3,8 +3,9 @@
 
 Code, comments, docs, tests and results speak of the product: a comment says why the code is as
 it is (the paper's section, a measurement and its results file), a results file says when and how
-a figure was measured. Work sessions, tracker issue numbers and "the build before" mean nothing to
-a user or a contributor, so this check (a ctest test, `dev_words`) names each such line.
+a figure was measured. References to work sessions, to a tracker's issue numbers or to earlier builds
+mean nothing to a user or a contributor, so this check (a ctest test, `dev_words`) names each such
+line.
 
 Usage: scripts/check-dev-words.py [ROOT]    (default: the repository this script lives in)
 """
@@ -15,15 +16,15 @@ from pathlib import Path
 
 # Each pattern is a way the development process shows through. Case-insensitive.
 PATTERNS = [
-    r"\bissues? ?#?\d+",                  # issue 21, issues 19/20, issue #7
-    r"\b(work )?sessions? \d+",           # session 38, sessions 35-36
+    r"\bissues? ?#?\d+",                  # a tracker issue by number
+    r"\b(work )?sessions? \d+",           # a work session by number
     r"\b(this|next|last|previous|earlier|prior|later) (work )?session\b",
     r"\bthe build before\b",
     r"\bbefore this change\b",
     r"\b(this|last|previous|next) round\b",
     r"\bstop \d+\b",                      # the tracker's stops
     r"\b(reliability|architecture|ros|ros 2|scale|map-file|dense) issue\b",  # an issue by its theme
-    r"\bthe issue'?s\b",                  # "the issue's bar"
+    r"\bthe issue'?s\b",                  # a bar named by whose it was
     r"\bissue( bar|:)",
 ]
 

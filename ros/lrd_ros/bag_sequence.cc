@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <boost/make_shared.hpp>
 #include <cstdint>
 #include <stdexcept>
 #include <vector>
@@ -46,25 +47,27 @@ lrd::bag::TopicTypes topic_types(const rosbag::Bag& bag) {
 template <typename T>
 boost::shared_ptr<T> instantiate(const rosbag::MessageInstance& m, const fs::path& file,
                                  const char* expected) {
-  boost::shared_ptr<T> message;
+  // isType: rosbag's own test in instantiate (the MD5 sum of the definition).
+  if (!m.isType<T>()) throw lrd::bag::wrong_type(file, m.getTopic(), m.getDataType(), expected);
+  auto message = boost::make_shared<T>();
   try {
     // ROS's deserializer sizes strings and arrays from their length prefixes before reading them:
-    // the prefixes are checked against the message's bytes first (lrd/bag/ros1_message_lengths.h).
-    if (m.getDataType() == ros::message_traits::datatype<T>()) {
-      if (m.size() > lrd::bag::kMaxRos1ChunkBytes)
-        throw std::runtime_error(fmt::format("it states {} bytes, more than a chunk holds", m.size()));
-      std::vector<std::uint8_t> raw(m.size());
-      ros::serialization::OStream out(raw.data(), static_cast<std::uint32_t>(raw.size()));
-      m.write(out);
-      const std::string problem = lrd::bag::ros1_length_problem(m.getDataType(), raw.data(), raw.size());
-      if (!problem.empty()) throw std::runtime_error(problem);
-    }
-    message = m.instantiate<T>();
+    // the message's bytes are copied out once, their prefixes checked (lrd/bag/ros1_message_lengths.h),
+    // and the message deserialized from that copy.
+    if (m.size() > lrd::bag::kMaxRos1ChunkBytes)
+      throw std::runtime_error(fmt::format("it states {} bytes, more than a chunk holds", m.size()));
+    std::vector<std::uint8_t> raw(m.size());
+    ros::serialization::OStream out(raw.data(), static_cast<std::uint32_t>(raw.size()));
+    m.write(out);
+    const std::string problem =
+        lrd::bag::ros1_length_problem(ros::message_traits::datatype<T>(), raw.data(), raw.size());
+    if (!problem.empty()) throw std::runtime_error(problem);
+    ros::serialization::IStream in(raw.data(), static_cast<std::uint32_t>(raw.size()));
+    ros::serialization::deserialize(in, *message);
   } catch (const std::exception& e) {
     throw file_error(file, fmt::format("topic {}: message at {} cannot be read: {}", m.getTopic(),
                                        to_seconds(m.getTime()), e.what()));
   }
-  if (!message) throw lrd::bag::wrong_type(file, m.getTopic(), m.getDataType(), expected);
   return message;
 }
 

@@ -1,6 +1,5 @@
 #include "lrd/bag/ros1_bag_structure.h"
 
-#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -8,6 +7,7 @@
 #include <set>
 #include <string>
 
+#include "lrd/util/binary_io.h"
 #include "lrd/util/error.h"
 
 namespace lrd::bag {
@@ -30,9 +30,8 @@ enum Op : std::uint8_t {
 }
 
 std::uint64_t little_endian(const std::string& bytes) {
-  std::uint64_t v = 0;
-  for (std::size_t i = bytes.size(); i-- > 0;) v = v << 8 | static_cast<std::uint8_t>(bytes[i]);
-  return v;
+  const auto* p = reinterpret_cast<const std::uint8_t*>(bytes.data());
+  return bytes.size() == 8 ? util::get_u64(p) : util::get_u32(p);
 }
 
 struct Record {
@@ -43,7 +42,7 @@ struct Record {
     const auto it = fields.find("op");
     return it != fields.end() && it->second.size() == 1 ? static_cast<std::uint8_t>(it->second[0]) : 0;
   }
-  // A little-endian integer field of `bytes` bytes, or `fallback` when absent or of another size.
+  // A little-endian integer field of 4 or 8 bytes, or `fallback` when absent or of another size.
   [[nodiscard]] std::uint64_t number(const std::string& name, std::size_t bytes,
                                      std::uint64_t fallback) const {
     const auto it = fields.find(name);
@@ -64,88 +63,63 @@ class RecordReader {
       throw Error(file.string() + ": cannot read the bag: not a ROS 1 bag (no \"#ROSBAG V2.0\" line)");
   }
   [[nodiscard]] std::uint64_t size() const { return size_; }
-  [[nodiscard]] std::string data(const Record& r) {
-    std::string bytes(r.data_bytes, '\0');
-    in_.seekg(static_cast<std::streamoff>(r.data_offset));
-    in_.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    return bytes;
-  }
-  [[nodiscard]] bool at_end(std::uint64_t offset) const { return offset >= size_; }
+  [[nodiscard]] std::string data(const Record& r) { return bytes(r.data_offset, r.data_bytes); }
 
-  Record read(std::uint64_t offset) {
+  // The record at `offset`, which with its header fields and data must end by `end` (the file's
+  // size, or the end of the chunk that holds it).
+  Record read(std::uint64_t offset, std::uint64_t end) {
+    const std::string limit = end == size_ ? "the file's end" : "its chunk's end";
+    const std::string record = "record at byte " + std::to_string(offset);
+    if (end - offset < 8) corrupt(file_, record + ": cut short by " + limit);
     Record r;
     r.offset = offset;
-    const std::uint64_t header_bytes = u32(offset, "record header length");
-    if (header_bytes > kMaxHeaderBytes || header_bytes > size_ - offset - 4)
-      corrupt(file_, "record at byte " + std::to_string(offset) + " states a header of " +
-                         std::to_string(header_bytes) + " bytes past the file's end");
-    std::string header(header_bytes, '\0');
-    in_.seekg(static_cast<std::streamoff>(offset + 4));
-    in_.read(header.data(), static_cast<std::streamsize>(header_bytes));
+    const std::uint64_t header_bytes = u32_at(offset);
+    if (header_bytes > kMaxHeaderBytes || header_bytes > end - offset - 8)
+      corrupt(file_, record + " states a header of " + std::to_string(header_bytes) + " bytes past " + limit);
+    const std::string header = bytes(offset + 4, header_bytes);
     for (std::size_t at = 0; at < header.size();) {
-      if (header.size() - at < 4)
-        corrupt(file_, "record at byte " + std::to_string(offset) + ": a cut header field");
+      if (header.size() - at < 4) corrupt(file_, record + ": a cut header field");
       const std::uint64_t n = little_endian(header.substr(at, 4));
       at += 4;
-      if (n > header.size() - at)
-        corrupt(file_, "record at byte " + std::to_string(offset) + ": a header field past its header");
+      if (n > header.size() - at) corrupt(file_, record + ": a header field past its header");
       const std::string field = header.substr(at, n);
       at += n;
       const std::size_t eq = field.find('=');
-      if (eq == std::string::npos)
-        corrupt(file_, "record at byte " + std::to_string(offset) + ": a field without '='");
+      if (eq == std::string::npos) corrupt(file_, record + ": a field without '='");
       r.fields[field.substr(0, eq)] = field.substr(eq + 1);
     }
     const std::uint64_t data_at = offset + 4 + header_bytes;
-    r.data_bytes = u32(data_at, "record data length");
+    r.data_bytes = u32_at(data_at);
     r.data_offset = data_at + 4;
-    if (r.data_bytes > size_ - r.data_offset)
-      corrupt(file_, "record at byte " + std::to_string(offset) + " states " + std::to_string(r.data_bytes) +
-                         " bytes of data past the file's end");
+    if (r.data_bytes > end - r.data_offset)
+      corrupt(file_, record + " states " + std::to_string(r.data_bytes) + " bytes of data past " + limit);
     return r;
   }
 
  private:
-  std::uint64_t u32(std::uint64_t offset, const char* what) {
-    if (size_ < 4 || offset > size_ - 4) corrupt(file_, std::string("the file ends inside a ") + what);
-    std::string bytes(4, '\0');
+  std::string bytes(std::uint64_t offset, std::uint64_t n) {
+    std::string out(n, '\0');
     in_.seekg(static_cast<std::streamoff>(offset));
-    in_.read(bytes.data(), 4);
-    return little_endian(bytes);
+    in_.read(out.data(), static_cast<std::streamsize>(n));
+    return out;
   }
+  std::uint64_t u32_at(std::uint64_t offset) { return little_endian(bytes(offset, 4)); }
 
   std::filesystem::path file_;
   std::ifstream in_;
   std::uint64_t size_ = 0;
 };
 
-// The offsets of the records an uncompressed chunk holds, each inside the chunk (rosbag reads a
-// message at an index entry's offset with the length stated there, unchecked against the chunk).
-std::set<std::uint64_t> chunk_records(const std::filesystem::path& file, const Record& chunk,
-                                      const std::string& bytes) {
+// The offsets (from the chunk's data) of the records an uncompressed chunk holds, each inside the
+// chunk: rosbag reads a message at an index entry's offset with the lengths stated there,
+// unchecked against the chunk. Only the records' headers are read.
+std::set<std::uint64_t> chunk_records(RecordReader& reader, const Record& chunk) {
   std::set<std::uint64_t> starts;
-  const auto u32 = [&](std::uint64_t at) { return little_endian(bytes.substr(at, 4)); };
-  for (std::uint64_t at = 0; at < bytes.size();) {
-    const std::uint64_t left = bytes.size() - at;
-    const auto past_end = [&] {
-      corrupt(file, "chunk at byte " + std::to_string(chunk.offset) + ": its record at " +
-                        std::to_string(at) + " states lengths past the chunk's end");
-    };
-    if (left < 8) past_end();
-    const std::uint64_t header = u32(at);
-    if (header > left - 8) past_end();
-    const std::uint64_t data = u32(at + 4 + header);
-    if (data > left - 8 - header) past_end();
-    // Each header field inside the header (rosbag copies a field by its stated length).
-    for (std::uint64_t f = at + 4; f < at + 4 + header;) {
-      const std::uint64_t room = at + 4 + header - f;
-      if (room < 4 || u32(f) > room - 4)
-        corrupt(file, "chunk at byte " + std::to_string(chunk.offset) + ": its record at " +
-                          std::to_string(at) + " has a header field past its header");
-      f += 4 + u32(f);
-    }
-    starts.insert(at);
-    at += 8 + header + data;
+  const std::uint64_t end = chunk.data_offset + chunk.data_bytes;
+  for (std::uint64_t at = chunk.data_offset; at < end;) {
+    const Record r = reader.read(at, end);
+    starts.insert(at - chunk.data_offset);
+    at = r.data_offset + r.data_bytes;
   }
   return starts;
 }
@@ -180,7 +154,7 @@ void check_chunk(const std::filesystem::path& file, const Record& r) {
 
 void check_ros1_bag_structure(const std::filesystem::path& file) {
   RecordReader reader(file);
-  const Record header = reader.read(sizeof kMagic - 1);
+  const Record header = reader.read(sizeof kMagic - 1, reader.size());
   if (header.op() != kBagHeader) corrupt(file, "no bag header record after the version line");
   const std::uint64_t index_pos = header.number("index_pos", 8, 0);
   const std::uint64_t connections = header.number("conn_count", 4, ~0ull);
@@ -192,16 +166,16 @@ void check_ros1_bag_structure(const std::filesystem::path& file) {
   std::optional<std::set<std::uint64_t>> last_chunk_records;  // empty: the last chunk is compressed
   std::uint64_t connection_records = 0, chunk_infos = 0;
   bool index_found = false;
-  for (std::uint64_t at = header.data_offset + header.data_bytes; !reader.at_end(at);) {
+  for (std::uint64_t at = header.data_offset + header.data_bytes; at < reader.size();) {
     if (at == index_pos) index_found = true;
-    const Record r = reader.read(at);
+    const Record r = reader.read(at, reader.size());
     switch (r.op()) {
       case kChunk:
         check_chunk(file, r);
         chunk_offsets.insert(r.offset);
         last_chunk_records.reset();
         // Compressed chunks are not looked into: that would mean decompressing the whole bag.
-        if (r.fields.at("compression") == "none") last_chunk_records = chunk_records(file, r, reader.data(r));
+        if (r.fields.at("compression") == "none") last_chunk_records = chunk_records(reader, r);
         break;
       case kConnection:
         connection_records += at >= index_pos ? 1 : 0;

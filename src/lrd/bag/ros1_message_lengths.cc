@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "lrd/util/binary_io.h"
+
 namespace lrd::bag {
 
 namespace {
@@ -29,8 +31,7 @@ class Lengths {
       problem_ = fmt::format("{}: its length past the message's end", field);
       return 0;
     }
-    const std::uint64_t n = std::uint64_t{bytes_[at_]} | std::uint64_t{bytes_[at_ + 1]} << 8 |
-                            std::uint64_t{bytes_[at_ + 2]} << 16 | std::uint64_t{bytes_[at_ + 3]} << 24;
+    const std::uint64_t n = util::get_u32(bytes_ + at_);
     at_ += 4;
     if (n * element > left()) {
       problem_ = fmt::format("{}: {} elements of {} bytes where {} bytes remain", field, n, element, left());
