@@ -31,3 +31,13 @@ def test_changelog_names_the_version_first():
     assert entries[0][0] == declared_version()
     versions = [tuple(map(int, v.split("."))) for v, _ in entries]
     assert versions == sorted(versions, reverse=True), "CHANGELOG.md lists versions newest first"
+
+
+def test_minimal_example_asks_for_a_version_the_package_accepts():
+    # The installed package config accepts the same major.minor (SameMinorVersion in src/CMakeLists.txt:
+    # before 1.0 a minor release may change the API), so the example must ask for the current minor.
+    assert "COMPATIBILITY SameMinorVersion" in (ROOT / "src" / "CMakeLists.txt").read_text()
+    m = re.search(r"find_package\(lrdslam (\d+)\.(\d+)", (ROOT / "examples" / "minimal" / "CMakeLists.txt").read_text())
+    assert m, "examples/minimal/CMakeLists.txt asks for no lrdslam version"
+    major, minor, _ = declared_version().split(".")
+    assert (m.group(1), m.group(2)) == (major, minor), f"example asks for {m.group(1)}.{m.group(2)}, package is {declared_version()}"
