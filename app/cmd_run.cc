@@ -215,7 +215,9 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--gt-from-tf", cli->bag.gt_from_tf,
                   "With --bag: ground truth = CHILD's pose in PARENT on /tf, e.g. /world:/kinect (TUM bags)");
   auto* settings = cmd->add_option("--settings", cli->settings, "ORB-SLAM2/3 settings file for the camera");
-  cmd->add_option("--preset", cli->preset, "Camera preset: tum1, tum2, tum3")->excludes(settings);
+  cmd->add_option("--preset", cli->preset,
+                  "Camera preset: tum1, tum2, tum3 (TUM RGB-D), bonn (Bonn RGB-D Dynamic)")
+      ->excludes(settings);
   cmd->add_option("--config", cli->config, "lrd-slam YAML config (see config/default.yaml)");
   cmd->add_option("--out", cli->out, "Output folder (default: the config's output.dir, \"output\")");
   cmd->add_flag("--deterministic", cli->deterministic,

@@ -31,6 +31,30 @@ TEST(ResolveConfig, FreiburgFolderNamePicksTheTumPreset) {
   EXPECT_DOUBLE_EQ(resolve_config(o).camera.fx, lrd::camera::camera_preset("tum1").fx);
 }
 
+TEST(ResolveConfig, BonnFolderNamePicksTheBonnPreset) {
+  lrd::test::TempDir tmp("runner_bonn");
+  const fs::path seq = tmp.path() / "rgbd_bonn_crowd";
+  fs::create_directories(seq);
+  RunOptions o;
+  o.sequence = seq;
+  std::string source;
+  const auto cfg = resolve_config(o, &source);
+  // Bonn RGB-D Dynamic's published calibration (one camera for every sequence).
+  EXPECT_DOUBLE_EQ(cfg.camera.fx, 542.822841);
+  EXPECT_DOUBLE_EQ(cfg.camera.cy, 237.756098);
+  EXPECT_DOUBLE_EQ(cfg.camera.distortion.k1, 0.039903);
+  EXPECT_DOUBLE_EQ(cfg.camera.depth_map_factor, 5000.0);
+  EXPECT_EQ(source, "preset bonn (from the folder name)");
+  // Only the dataset's own prefix: a folder that merely mentions bonn keeps the default.
+  const fs::path other = tmp.path() / "my_bonn_run";
+  fs::create_directories(other);
+  o.sequence = other;
+  EXPECT_DOUBLE_EQ(resolve_config(o).camera.fx, lrd::camera::camera_preset("tum3").fx);
+  o.sequence = seq;
+  o.preset = "tum1";  // the flag wins over the name
+  EXPECT_DOUBLE_EQ(resolve_config(o).camera.fx, lrd::camera::camera_preset("tum1").fx);
+}
+
 TEST(ResolveConfig, SequenceSettingsThenPresetThenDefault) {
   lrd::test::TempDir tmp("runner_folder");
   const fs::path seq = tmp.path() / "my_sequence";

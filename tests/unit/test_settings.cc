@@ -5,6 +5,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "lrd/config/orbslam_settings.h"
 #include "lrd/util/error.h"
@@ -224,11 +225,12 @@ TEST_F(SettingsTest, BadInputIsOneLineError) {
   EXPECT_NE(msg.find("KannalaBrandt8"), std::string::npos) << msg;
 }
 
-TEST_F(SettingsTest, ShippedTumFilesMatchPresets) {
-  for (const char* n : {"1", "2", "3"}) {
-    const auto s =
-        read_orbslam_settings(fs::path(LRD_SOURCE_DIR) / "config" / (std::string("TUM") + n + ".yaml"));
-    const auto p = lrd::camera::camera_preset(std::string("tum") + n);
+TEST_F(SettingsTest, ShippedSettingsFilesMatchPresets) {
+  const std::pair<const char*, const char*> shipped[] = {
+      {"TUM1.yaml", "tum1"}, {"TUM2.yaml", "tum2"}, {"TUM3.yaml", "tum3"}, {"Bonn.yaml", "bonn"}};
+  for (const auto& [file, n] : shipped) {
+    const auto s = read_orbslam_settings(fs::path(LRD_SOURCE_DIR) / "config" / file);
+    const auto p = lrd::camera::camera_preset(n);
     EXPECT_DOUBLE_EQ(s.camera.fx, p.fx) << n;
     EXPECT_DOUBLE_EQ(s.camera.fy, p.fy) << n;
     EXPECT_DOUBLE_EQ(s.camera.cx, p.cx) << n;

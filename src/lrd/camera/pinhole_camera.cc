@@ -20,12 +20,13 @@ cv::Mat PinholeCamera::distortion_cv() const {
 }
 
 std::vector<std::string> camera_preset_names() {
-  return {"tum1", "tum2", "tum3"};
+  return {"tum1", "tum2", "tum3", "bonn"};
 }
 
 PinholeCamera camera_preset(std::string_view name) {
-  // Calibration published with the TUM RGB-D benchmark (freiburg1/2/3); bf/ThDepth as in
-  // ORB-SLAM2's TUM1/2/3.yaml.
+  // Calibration published with the TUM RGB-D benchmark (freiburg1/2/3) and with Bonn RGB-D
+  // Dynamic (Palazzolo et al., IROS 2019: an ASUS Xtion, depth in units of 1/5000 m as in TUM);
+  // bf/ThDepth as in ORB-SLAM2's TUM1/2/3.yaml, which Bonn's Kinect-class sensor shares.
   PinholeCamera cam;
   cam.name = std::string(name);
   if (name == "tum1") {
@@ -49,8 +50,15 @@ PinholeCamera camera_preset(std::string_view name) {
     cam.cy = 247.6;
     cam.distortion = {};
     cam.depth_map_factor = 5000.0;
+  } else if (name == "bonn") {
+    cam.fx = 542.822841;
+    cam.fy = 542.576870;
+    cam.cx = 315.593520;
+    cam.cy = 237.756098;
+    cam.distortion = {0.039903, -0.099343, -0.000730, -0.000144, 0.0};
+    cam.depth_map_factor = 5000.0;
   } else {
-    throw Error("unknown camera preset '" + std::string(name) + "' (valid: tum1, tum2, tum3)");
+    throw Error("unknown camera preset '" + std::string(name) + "' (valid: tum1, tum2, tum3, bonn)");
   }
   cam.width = 640;
   cam.height = 480;

@@ -71,7 +71,8 @@ struct PinholeCamera {
   }
 };
 
-// Built-in presets with the TUM RGB-D published calibration: "tum1", "tum2", "tum3".
+// Built-in presets with a dataset's published calibration: "tum1", "tum2", "tum3" (TUM RGB-D's
+// freiburg1/2/3) and "bonn" (Bonn RGB-D Dynamic).
 // Throws lrd::Error naming the valid presets for any other name.
 [[nodiscard]] PinholeCamera camera_preset(std::string_view name);
 [[nodiscard]] std::vector<std::string> camera_preset_names();

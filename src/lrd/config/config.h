@@ -41,7 +41,7 @@ struct Config {
 
 // Reads and validates `path`. Throws lrd::Error ("FILE[:LINE]: problem") for a missing file,
 // YAML syntax errors, unknown sections or keys, wrong types and out-of-range values.
-// camera: `preset: tum1|tum2|tum3`, or `settings: FILE` (ORB-SLAM2/3 settings, relative to the
+// camera: `preset: tum1|tum2|tum3|bonn`, or `settings: FILE` (ORB-SLAM2/3 settings, relative to the
 // config file; its ORBextractor values then become the defaults of `features`), or explicit
 // fx/fy/cx/cy; other fields given next to a preset or settings file override it. Without a
 // camera section the camera is the tum3 preset.

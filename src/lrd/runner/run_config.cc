@@ -32,14 +32,24 @@ fs::path data_folder(const RunOptions& o) {
 
 namespace {
 
-// TUM folder and bag names carry the sensor: rgbd_dataset_freiburg3_walking_xyz(.bag) -> '3'.
-char tum_sensor_of(const fs::path& named) {
-  if (named.empty()) return '\0';
+// The file or folder name a dataset gave a sequence.
+std::string dataset_name_of(const fs::path& named) {
+  if (named.empty()) return {};
   std::string name = fs::absolute(named).lexically_normal().filename().string();
   if (name.empty()) name = fs::absolute(named).lexically_normal().parent_path().filename().string();
+  return name;
+}
+
+// TUM folder and bag names carry the sensor: rgbd_dataset_freiburg3_walking_xyz(.bag) -> '3'.
+char tum_sensor_of(const std::string& name) {
   const std::size_t at = name.find("freiburg");
   const char sensor = at != std::string::npos && at + 8 < name.size() ? name[at + 8] : '\0';
   return sensor >= '1' && sensor <= '3' ? sensor : '\0';
+}
+
+// Bonn RGB-D Dynamic's folders are all named rgbd_bonn_<sequence> (one camera for all of them).
+bool is_bonn_name(const std::string& name) {
+  return name.starts_with("rgbd_bonn_");
 }
 
 }  // namespace
@@ -50,7 +60,8 @@ config::Config resolve_config(const RunOptions& o, std::string* source) {
 
 config::Config resolve_config(const RunOptions& o, config::Config cfg, std::string* source) {
   std::string from;
-  const char sensor = tum_sensor_of(o.source ? o.source->path() : o.sequence);
+  const std::string dataset_name = dataset_name_of(o.source ? o.source->path() : o.sequence);
+  const char sensor = tum_sensor_of(dataset_name);
   const auto carried = o.source ? o.source->camera() : std::nullopt;
   const fs::path folder = data_folder(o);
   if (o.settings && o.preset) throw Error("--settings and --preset cannot be combined");
@@ -80,6 +91,9 @@ config::Config resolve_config(const RunOptions& o, config::Config cfg, std::stri
     // fmt, not string concatenation: gcc 12 -O1 under TSan warns of a false array-bounds overflow.
     cfg.camera = camera::camera_preset(fmt::format("tum{}", sensor));
     from = fmt::format("preset tum{} (from the folder name)", sensor);
+  } else if (!folder.empty() && is_bonn_name(dataset_name)) {
+    cfg.camera = camera::camera_preset("bonn");
+    from = "preset bonn (from the folder name)";
   } else {
     from = "preset tum3 (default)";
   }

@@ -28,7 +28,7 @@ struct RunOptions {
   // with ROS). Its camera, if it carries one, comes after --settings, --preset and the config's.
   std::shared_ptr<const io::FrameSource> source;
   std::optional<std::filesystem::path> settings;  // ORB-SLAM2/3 settings file
-  std::optional<std::string> preset;              // camera preset (tum1, tum2, tum3)
+  std::optional<std::string> preset;              // camera preset (tum1, tum2, tum3, bonn)
   std::optional<std::filesystem::path> config;    // lrd-slam YAML config
   std::filesystem::path out;                      // output folder (created; empty: the config's output.dir)
   bool deterministic = false;
@@ -82,7 +82,8 @@ struct RunOptions {
 // Chooses the camera: --settings, else --preset, else the config's camera section if the config
 // has one, else the camera the frame source carries (a bag's camera_info), else the sequence's own
 // settings.yaml (synthetic benchmark), else the TUM preset named by a "freiburgN" folder (or bag)
-// name, else the default (tum3). `source` says which was used.
+// name, else the bonn preset for an "rgbd_bonn_*" folder, else the default (tum3). `source` says which was
+// used.
 [[nodiscard]] config::Config resolve_config(const RunOptions& options, std::string* source = nullptr);
 // The same over a config already read (options.config is then not read).
 [[nodiscard]] config::Config resolve_config(const RunOptions& options, config::Config config,
