@@ -107,3 +107,18 @@ def test_corrupt_vocabulary_is_a_one_line_error(sequence, tmp_path):
     assert r.returncode != 0
     lines = [l for l in r.stderr.splitlines() if l.startswith("error")]
     assert len(lines) == 1 and str(bad) in lines[0]
+
+
+def test_a_bonn_folder_gets_bonns_calibration_from_its_name(sequence, tmp_path):
+    # A Bonn RGB-D Dynamic download: the TUM layout without our settings.yaml, named rgbd_bonn_*.
+    bonn = tmp_path / "rgbd_bonn_static"
+    bonn.mkdir()
+    for name in ["rgb", "depth"]:
+        (bonn / name).symlink_to(sequence / name)
+    for name in ["rgb.txt", "depth.txt", "groundtruth.txt"]:
+        (bonn / name).write_bytes((sequence / name).read_bytes())
+    out = tmp_path / "out"
+    lrdslam("run", "--sequence", bonn, "--out", out, "--max-frames", 5, "--quiet")
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["camera"] == "preset bonn (from the folder name)"
+    assert summary["frames"] == 5
