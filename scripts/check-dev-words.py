@@ -19,7 +19,7 @@ PATTERNS = [
     r"\bissues? ?#?\d+",                  # a tracker issue by number
     r"\b(work )?sessions? \d+",           # a work session by number
     r"\b(this|next|last|previous|earlier|prior|later) (work )?session\b",
-    r"\bthe build before\b",
+    r"\bthe\s+build\s+before\b",
     r"\bbefore this change\b",
     r"\b(this|last|previous|next) round\b",
     r"\bstop \d+\b",                      # the tracker's stops

@@ -17,12 +17,18 @@ namespace fs = std::filesystem;
 using lrd::runner::resolve_config;
 using lrd::runner::RunOptions;
 
+// Options for `lrdslam run --sequence` on an empty folder of that name under `tmp`.
+RunOptions sequence_folder(const lrd::test::TempDir& tmp, const std::string& name) {
+  RunOptions o;
+  o.sequence = tmp.path() / name;
+  fs::create_directories(o.sequence);
+  return o;
+}
+
 TEST(ResolveConfig, FreiburgFolderNamePicksTheTumPreset) {
   lrd::test::TempDir tmp("runner_settings");
-  const fs::path seq = tmp.path() / "rgbd_dataset_freiburg1_xyz";
-  fs::create_directories(seq);
-  RunOptions o;
-  o.sequence = seq;
+  RunOptions o = sequence_folder(tmp, "rgbd_dataset_freiburg1_xyz");
+  const fs::path seq = o.sequence;
   std::string source;
   const auto cfg = resolve_config(o, &source);
   EXPECT_DOUBLE_EQ(cfg.camera.fx, lrd::camera::camera_preset("tum1").fx);
@@ -33,10 +39,7 @@ TEST(ResolveConfig, FreiburgFolderNamePicksTheTumPreset) {
 
 TEST(ResolveConfig, BonnFolderNamePicksTheBonnPreset) {
   lrd::test::TempDir tmp("runner_bonn");
-  const fs::path seq = tmp.path() / "rgbd_bonn_crowd";
-  fs::create_directories(seq);
-  RunOptions o;
-  o.sequence = seq;
+  RunOptions o = sequence_folder(tmp, "rgbd_bonn_crowd");
   std::string source;
   const auto cfg = resolve_config(o, &source);
   // Bonn RGB-D Dynamic's published calibration (one camera for every sequence).
@@ -46,21 +49,16 @@ TEST(ResolveConfig, BonnFolderNamePicksTheBonnPreset) {
   EXPECT_DOUBLE_EQ(cfg.camera.depth_map_factor, 5000.0);
   EXPECT_EQ(source, "preset bonn (from the folder name)");
   // Only the dataset's own prefix: a folder that merely mentions bonn keeps the default.
-  const fs::path other = tmp.path() / "my_bonn_run";
-  fs::create_directories(other);
-  o.sequence = other;
-  EXPECT_DOUBLE_EQ(resolve_config(o).camera.fx, lrd::camera::camera_preset("tum3").fx);
-  o.sequence = seq;
+  EXPECT_DOUBLE_EQ(resolve_config(sequence_folder(tmp, "my_bonn_run")).camera.fx,
+                   lrd::camera::camera_preset("tum3").fx);
   o.preset = "tum1";  // the flag wins over the name
   EXPECT_DOUBLE_EQ(resolve_config(o).camera.fx, lrd::camera::camera_preset("tum1").fx);
 }
 
 TEST(ResolveConfig, SequenceSettingsThenPresetThenDefault) {
   lrd::test::TempDir tmp("runner_folder");
-  const fs::path seq = tmp.path() / "my_sequence";
-  fs::create_directories(seq);
-  RunOptions o;
-  o.sequence = seq;
+  RunOptions o = sequence_folder(tmp, "my_sequence");
+  const fs::path seq = o.sequence;
   EXPECT_DOUBLE_EQ(resolve_config(o).camera.fx, lrd::camera::camera_preset("tum3").fx);  // default
   tmp.write("my_sequence/settings.yaml",
             "%YAML:1.0\nCamera.fx: 500.0\nCamera.fy: 501.0\nCamera.cx: 320.0\nCamera.cy: 240.0\n"

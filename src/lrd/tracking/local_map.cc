@@ -9,6 +9,23 @@
 
 namespace lrd::tracking {
 
+namespace {
+// Calls visit(point) for each map point the frame matched that is still good; a match to a point
+// since culled or fused away is dropped from the frame.
+template <typename Visit>
+void for_each_good_match(data::Frame& frame, Visit visit) {
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    map::MapPoint* mp = frame.map_points[i];
+    if (mp == nullptr) continue;
+    if (mp->is_bad()) {
+      frame.map_points[i] = nullptr;
+      continue;
+    }
+    visit(mp);
+  }
+}
+}  // namespace
+
 LocalMap::LocalMap() : matcher_({0.8f, false}) {}
 
 map::KeyFrame* LocalMap::update(data::Frame& frame, std::uint64_t tag, std::size_t max_keyframes) {
@@ -23,13 +40,7 @@ map::KeyFrame* LocalMap::update_keyframes(data::Frame& frame, std::uint64_t tag,
   const std::uint64_t count_tag = ++sharing_count_pass_;
   std::vector<map::KeyFrame*>& sharing = sharing_;
   sharing.clear();
-  for (std::size_t i = 0; i < frame.size(); ++i) {
-    map::MapPoint* mp = frame.map_points[i];
-    if (mp == nullptr) continue;
-    if (mp->is_bad()) {
-      frame.map_points[i] = nullptr;
-      continue;
-    }
+  for_each_good_match(frame, [&](map::MapPoint* mp) {
     for (const auto& [kf, idx] : mp->observations()) {
       if (kf->track_count_for_frame != count_tag) {
         kf->track_count_for_frame = count_tag;
@@ -38,7 +49,7 @@ map::KeyFrame* LocalMap::update_keyframes(data::Frame& frame, std::uint64_t tag,
       }
       ++kf->track_shared_points;
     }
-  }
+  });
   if (sharing.empty()) return nullptr;
   std::sort(sharing.begin(), sharing.end(), map::ById{});
   std::erase_if(sharing, [](const map::KeyFrame* kf) { return kf->is_bad(); });
@@ -94,17 +105,11 @@ void LocalMap::update_points(std::uint64_t tag) {
 }
 
 int LocalMap::search(data::Frame& frame, std::uint64_t tag, float radius) {
-  for (std::size_t i = 0; i < frame.size(); ++i) {
-    map::MapPoint* mp = frame.map_points[i];
-    if (mp == nullptr) continue;
-    if (mp->is_bad()) {
-      frame.map_points[i] = nullptr;
-      continue;
-    }
+  for_each_good_match(frame, [&](map::MapPoint* mp) {
     mp->increase_visible();
     mp->track.last_frame_seen = tag;
     mp->track.in_view = false;
-  }
+  });
   int to_match = 0;
   for (map::MapPoint* mp : points_) {
     if (mp->track.last_frame_seen == tag || mp->is_bad()) {
